@@ -1,0 +1,10 @@
+#pragma once
+/// @file commands.hpp
+/// Each `dorado` subcommand registers itself on the CLI11 app from its own cmd_*.cpp file.
+
+#include <CLI/CLI.hpp>
+
+namespace dorado::apps {
+
+
+}  // namespace dorado::apps

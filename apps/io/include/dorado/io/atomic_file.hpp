@@ -1,0 +1,18 @@
+#pragma once
+/// @file atomic_file.hpp
+/// Writing result files so that an interrupted run never leaves a truncated file that looks complete.
+
+#include <functional>
+#include <ostream>
+#include <string>
+
+namespace dorado::io {
+
+/// Writes through `write` into `path + ".tmp"`, flushes, then renames over `path`.
+/// Throws std::runtime_error naming the file when it cannot be written.
+void WriteFileAtomically(const std::string &path, const std::function<void(std::ostream &)> &write);
+
+/// Creates the directory (and its parents); throws std::runtime_error naming it on failure.
+void MakeDirectories(const std::string &path);
+
+}  // namespace dorado::io

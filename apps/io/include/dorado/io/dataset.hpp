@@ -1,0 +1,50 @@
+#pragma once
+/// @file dataset.hpp
+/// A recorded dataset read as one stream of time-ordered events: radar scans, IMU samples and
+/// ground-truth poses. Readers stream (they never load a whole bag) and report bad scans as
+/// events instead of stopping.
+
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "dorado/core/imu.hpp"
+#include "dorado/core/radar_scan.hpp"
+#include "dorado/core/trajectory.hpp"
+#include "dorado/io/dataset_config.hpp"
+
+namespace dorado::io {
+
+struct DatasetEvent {
+    enum class Kind { kRadarScan, kImu, kGroundTruth, kBadScan };
+    Kind kind = Kind::kRadarScan;
+    int64_t stamp_ns = 0;
+    std::size_t scan_index = 0;  ///< index of the radar message in the dataset (for kRadarScan/kBadScan)
+    RadarScan scan;              ///< kRadarScan: finite points only
+    Eigen::Index removed_nonfinite_points = 0;  ///< kRadarScan: points dropped for NaN/Inf values
+    ImuSample imu;               ///< kImu
+    StampedPose ground_truth;    ///< kGroundTruth: T_world_body of the ground-truth body
+    std::string problem;         ///< kBadScan: why the scan could not be read
+};
+
+/// A fatal problem with the dataset (cannot open, unreadable index, missing topic): the message
+/// names the file and what is wrong.
+class DatasetError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+class DatasetReader {
+public:
+    virtual ~DatasetReader() = default;
+    /// Fills the next event; false at the end. Throws DatasetError on an unrecoverable problem.
+    virtual bool Next(DatasetEvent &event) = 0;
+    /// Human-readable name of the source (file or folder) for messages.
+    [[nodiscard]] virtual std::string source() const = 0;
+};
+
+/// Opens the reader the config asks for. Throws DatasetError.
+[[nodiscard]] std::unique_ptr<DatasetReader> OpenDataset(const DatasetConfig &config);
+
+}  // namespace dorado::io

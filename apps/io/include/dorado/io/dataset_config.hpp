@@ -1,0 +1,69 @@
+#pragma once
+/// @file dataset_config.hpp
+/// The dataset description (a YAML file under configs/): which reader, which topics or paths, the
+/// field map, the extrinsics and the vehicle geometry. See configs/README.md for every key.
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "dorado/core/extrinsics.hpp"
+#include "dorado/io/pointcloud_decoder.hpp"
+
+namespace dorado::io {
+
+/// A bad configuration: the message names the file and the key.
+class ConfigError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+enum class ReaderKind { kRosbag, kFolder };
+enum class TrajectoryFormat { kTum, kKitti, kPaperCsv };
+
+struct RosbagSource {
+    std::string path;                ///< the .bag file
+    std::string radar_topic = "/hugin_raf_1/radar_data";  ///< PointCloud2 or PointCloud
+    std::string imu_topic;           ///< sensor_msgs/Imu; empty = none
+    std::string ground_truth_topic;  ///< nav_msgs/Odometry or geometry_msgs/PoseStamped; empty = none
+};
+
+struct FolderSource {
+    std::string scans_dir;        ///< one file per scan, taken in lexicographic order
+    std::string extension = ".bin";  ///< ".bin" (raw little-endian columns) or ".pcd"
+    std::string timestamps_file;  ///< one time [s] per line, one line per scan file
+    /// For .bin: one name per column, each column a float32 ("_" = ignored), e.g. View-of-Delft
+    /// [x, y, z, power, doppler, _, _]. The names are those of the field map.
+    std::vector<std::string> columns;
+};
+
+struct GroundTruthFile {
+    std::string path;  ///< empty = none
+    TrajectoryFormat format = TrajectoryFormat::kTum;
+    std::string kitti_times_path;  ///< for KITTI: one time [s] per line
+};
+
+struct DatasetConfig {
+    std::string name;         ///< for messages and reports
+    std::string config_path;  ///< the YAML file it came from (empty when built in code)
+    ReaderKind reader = ReaderKind::kRosbag;
+    RosbagSource rosbag;
+    FolderSource folder;
+    GroundTruthFile ground_truth;
+    FieldMap fields;
+    Extrinsics extrinsics;
+    VehicleGeometry vehicle;
+};
+
+/// Reads and validates a dataset description. Relative paths are taken relative to the YAML file.
+/// Unknown keys, wrong types and out-of-range values throw ConfigError naming file and key.
+[[nodiscard]] DatasetConfig LoadDatasetConfig(const std::string &yaml_path);
+
+/// The dataset a command-line argument names: a .yaml/.yml description, or a .bag read with the
+/// paper's Hugin defaults. Throws ConfigError.
+[[nodiscard]] DatasetConfig ResolveDataset(const std::string &argument);
+
+/// The description as YAML text (what LoadDatasetConfig reads back).
+[[nodiscard]] std::string DatasetConfigToYaml(const DatasetConfig &config);
+
+}  // namespace dorado::io
