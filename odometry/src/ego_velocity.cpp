@@ -26,50 +26,6 @@ std::string Format(double value) {
     return s.str();
 }
 
-// A cheap angle proxy, monotonic in atan2(y, x), in [0, 4), wrapping at the -X axis of the
-// rotated frame (see AssignCells). Used only to bin directions.
-double PseudoAngle(double x, double y) {
-    const double ax = std::abs(x), ay = std::abs(y);
-    if (ax + ay == 0.0) return 2.0;
-    // Diamond angle of (-x, -y): 0 at -X, 2 at +X.
-    const double px = -x, py = -y;
-    if (py >= 0) return px >= 0 ? py / (px + py) : 1.0 - px / (-px + py);
-    return px < 0 ? 2.0 - py / (-px - py) : 3.0 + px / (px - py);
-}
-
-// Direction cells for the spread-aware RANSAC score: an azimuth x elevation grid over the
-// extent of this scan's directions, azimuth measured from the mean horizontal direction.
-void AssignCells(const EgoVelocityConfig &config, internal::DopplerSystem &s) {
-    const Eigen::Index n = s.size();
-    s.num_cells = config.score_cells_azimuth * config.score_cells_elevation;
-    if (s.num_cells == 1 || n == 0) {
-        s.cell.setZero();
-        return;
-    }
-    Eigen::Vector2d mean(s.A.col(0).sum(), s.A.col(1).sum());
-    mean = mean.norm() > 1e-9 * n ? Eigen::Vector2d(mean.normalized()) : Eigen::Vector2d(1, 0);
-    double az_min = 4.0, az_max = 0.0;
-    const double el_min = s.A.col(2).minCoeff(), el_max = s.A.col(2).maxCoeff();
-    // Two passes (extent, then bins) recompute the cheap pseudo-angle instead of storing it.
-    for (Eigen::Index i = 0; i < n; ++i) {
-        const double a = PseudoAngle(mean.x() * s.A(i, 0) + mean.y() * s.A(i, 1),
-                                     -mean.y() * s.A(i, 0) + mean.x() * s.A(i, 1));
-        az_min = std::min(az_min, a);
-        az_max = std::max(az_max, a);
-    }
-    const double az_scale = config.score_cells_azimuth / std::max(az_max - az_min, 1e-9);
-    const double el_scale = config.score_cells_elevation / std::max(el_max - el_min, 1e-9);
-    for (Eigen::Index i = 0; i < n; ++i) {
-        const double a = PseudoAngle(mean.x() * s.A(i, 0) + mean.y() * s.A(i, 1),
-                                     -mean.y() * s.A(i, 0) + mean.x() * s.A(i, 1));
-        const int ca =
-            std::min(config.score_cells_azimuth - 1, static_cast<int>((a - az_min) * az_scale));
-        const int ce = std::min(config.score_cells_elevation - 1,
-                                static_cast<int>((s.A(i, 2) - el_min) * el_scale));
-        s.cell[i] = ce * config.score_cells_azimuth + ca;
-    }
-}
-
 // eq. (2) weights from power, normalised to a largest weight of 1, and the inlier gate that
 // follows each point's Doppler noise.
 void AssignWeightsAndGates(const EgoVelocityConfig &config, const RadarScan &scan,
@@ -178,7 +134,7 @@ Eigen::Matrix3d Covariance(const EgoVelocityConfig &config, internal::Workspace 
         return gate_factor * rWr / dof * H_inv;
     // Sandwich: H^-1 (sum (w_i r_i)^2 d_i d_i^T) H^-1, small-sample factor N / (N - 3).
     ws.weighted_A = s.A.array().colwise() * (ws.weighted.array() * ws.residual.array());
-    const Eigen::Matrix3d meat = ws.weighted_A.transpose() * ws.weighted_A;
+    const Eigen::Matrix3d meat = internal::SymmetricGram(ws.weighted_A, ws.weighted_A);
     return gate_factor * (static_cast<double>(inliers) / dof) * H_inv * meat * H_inv;
 }
 
@@ -257,7 +213,6 @@ EgoVelocityResult EgoVelocityEstimator::Estimate(const RadarScan &scan_radar) {
         result.reason = "every point has zero weight (power at or below decibel_floor_db)";
         return result;
     }
-    AssignCells(config_, ws.system);
 
     ws.rng.seed(config_.seed);
     Eigen::Vector3d v;

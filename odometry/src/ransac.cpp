@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <string>
 
 #include "robust_fit.hpp"
 
@@ -26,6 +27,45 @@ bool SolveMinimal(const DopplerSystem &s, Eigen::Index i, Eigen::Index j, Eigen:
     if (std::abs(M.determinant()) < kMinSampleVolume) return false;
     v = M.partialPivLu().solve(Eigen::Vector3d(s.b[i], s.b[j], s.b[k]));
     return v.allFinite();
+}
+
+// A cheap angle proxy, monotonic in atan2(y, x), in [0, 4), wrapping at the -X axis of the
+// rotated frame (see AssignCells). Used only to bin directions.
+double PseudoAngle(double x, double y) {
+    const double ax = std::abs(x), ay = std::abs(y);
+    if (ax + ay == 0.0) return 2.0;
+    // Diamond angle of (-x, -y): 0 at -X, 2 at +X.
+    const double px = -x, py = -y;
+    if (py >= 0) return px >= 0 ? py / (px + py) : 1.0 - px / (-px + py);
+    return px < 0 ? 2.0 - py / (-px - py) : 3.0 + px / (px - py);
+}
+
+// Direction cells for the spread-aware RANSAC score: an azimuth x elevation grid over the
+// extent of this scan's directions, azimuth measured from the mean horizontal direction.
+void AssignCells(const EgoVelocityConfig &config, DopplerSystem &s, Eigen::VectorXd &azimuth) {
+    const Eigen::Index n = s.size();
+    s.num_cells = config.score_cells_azimuth * config.score_cells_elevation;
+    if (s.num_cells == 1 || n == 0) {
+        s.cell.setZero();
+        return;
+    }
+    Eigen::Vector2d mean(s.A.col(0).sum(), s.A.col(1).sum());
+    mean = mean.norm() > 1e-9 * n ? Eigen::Vector2d(mean.normalized()) : Eigen::Vector2d(1, 0);
+    const double el_min = s.A.col(2).minCoeff(), el_max = s.A.col(2).maxCoeff();
+    azimuth.resize(n);
+    for (Eigen::Index i = 0; i < n; ++i)
+        azimuth[i] = PseudoAngle(mean.x() * s.A(i, 0) + mean.y() * s.A(i, 1),
+                                 -mean.y() * s.A(i, 0) + mean.x() * s.A(i, 1));
+    const double az_min = azimuth.minCoeff(), az_max = azimuth.maxCoeff();
+    const double az_scale = config.score_cells_azimuth / std::max(az_max - az_min, 1e-9);
+    const double el_scale = config.score_cells_elevation / std::max(el_max - el_min, 1e-9);
+    for (Eigen::Index i = 0; i < n; ++i) {
+        const int ca = std::min(config.score_cells_azimuth - 1,
+                                static_cast<int>((azimuth[i] - az_min) * az_scale));
+        const int ce = std::min(config.score_cells_elevation - 1,
+                                static_cast<int>((s.A(i, 2) - el_min) * el_scale));
+        s.cell[i] = ce * config.score_cells_azimuth + ca;
+    }
 }
 
 // Spread-aware MSAC score: each inlier contributes its quality 1 - r^2/gate^2 to its direction
@@ -54,7 +94,6 @@ void DrawSubset(const DopplerSystem &from, Eigen::Index count, Workspace &ws, Do
     ws.shuffle.resize(n);
     std::iota(ws.shuffle.begin(), ws.shuffle.end(), 0);
     to.Resize(count);
-    to.num_cells = from.num_cells;
     for (Eigen::Index k = 0; k < count; ++k) {
         std::uniform_int_distribution<Eigen::Index> pick(k, n - 1);
         std::swap(ws.shuffle[k], ws.shuffle[pick(ws.rng)]);
@@ -63,7 +102,6 @@ void DrawSubset(const DopplerSystem &from, Eigen::Index count, Workspace &ws, Do
         to.b[k] = from.b[i];
         to.w[k] = from.w[i];
         to.gate2[k] = from.gate2[i];
-        to.cell[k] = from.cell[i];
     }
 }
 
@@ -96,7 +134,9 @@ bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, 
     const Eigen::Index n = all.size();
     const bool use_subset = config.ransac_score_points > 0 && n > config.ransac_score_points;
     if (use_subset) DrawSubset(all, config.ransac_score_points, ws, ws.subset);
-    const DopplerSystem &s = use_subset ? ws.subset : all;
+    if (!use_subset) ws.subset = all;  // cells are assigned on the points RANSAC scores
+    DopplerSystem &s = ws.subset;
+    AssignCells(config, s, ws.sort_buffer);
     const Eigen::Index m = s.size();
     ws.residual.resize(m);
     ws.cell_score.resize(s.num_cells);

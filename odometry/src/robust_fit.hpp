@@ -36,6 +36,15 @@ struct Workspace {
     std::mt19937_64 rng;
 };
 
+/// X^T Y for two N x 3 matrices, as nine column dot products (Eigen's GEMM path packs and is
+/// several times slower for this shape).
+Eigen::Matrix3d Gram(const Eigen::Matrix<double, Eigen::Dynamic, 3> &X,
+                     const Eigen::Matrix<double, Eigen::Dynamic, 3> &Y);
+
+/// X^T Y when it is known to be symmetric (six dot products).
+Eigen::Matrix3d SymmetricGram(const Eigen::Matrix<double, Eigen::Dynamic, 3> &X,
+                              const Eigen::Matrix<double, Eigen::Dynamic, 3> &Y);
+
 /// Weighted least squares (eq. 2) on the rows with mask_i = 1: v = (A^T W A)^-1 A^T W b.
 /// `AtWA` receives A^T W A. False when A^T W A is singular.
 bool SolveWeighted(const DopplerSystem &system, const Eigen::VectorXd &mask, Workspace &ws,
