@@ -47,19 +47,22 @@ void Evaluate(const std::string &label, const EgoVelocityConfig &config, const S
         se += (r.v_radar_mps - o.v_radar).cwiseAbs2();
     }
     const Eigen::Vector3d rmse = (se / trials).cwiseSqrt(), bound = (crb / trials).cwiseSqrt();
-    std::printf("%-34s %-16s  RMSE [mm/s] %6.2f %6.2f %6.2f   CRB %6.2f %6.2f %6.2f   "
-                "RMSE/CRB %.3f  invalid %d\n",
-                sc.name.c_str(), label.c_str(), 1e3 * rmse.x(), 1e3 * rmse.y(), 1e3 * rmse.z(),
-                1e3 * bound.x(), 1e3 * bound.y(), 1e3 * bound.z(),
-                std::sqrt(se.sum() / crb.sum()), invalid);
+    std::printf(
+        "%-34s %-16s  RMSE [mm/s] %6.2f %6.2f %6.2f   CRB %6.2f %6.2f %6.2f   "
+        "RMSE/CRB %.3f  invalid %d\n",
+        sc.name.c_str(), label.c_str(), 1e3 * rmse.x(), 1e3 * rmse.y(), 1e3 * rmse.z(),
+        1e3 * bound.x(), 1e3 * bound.y(), 1e3 * bound.z(), std::sqrt(se.sum() / crb.sum()),
+        invalid);
 }
 
 }  // namespace
 
 int main(int argc, char **argv) {
     const int trials = argc > 1 ? std::atoi(argv[1]) : 200;
-    std::printf("5000-point Hugin-like scans (120 x 30 deg FOV), Doppler sigma 0.05 m/s growing "
-                "for weak returns, %d trials each\n", trials);
+    std::printf(
+        "5000-point Hugin-like scans (120 x 30 deg FOV), Doppler sigma 0.05 m/s growing "
+        "for weak returns, %d trials each\n",
+        trials);
     EgoVelocityConfig ransac, unit, irls, none;
     unit.use_power = false;
     irls.method = RobustMethod::kTrimmedIrls;

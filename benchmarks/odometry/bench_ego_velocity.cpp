@@ -42,9 +42,15 @@ void Run(benchmark::State &state, EgoVelocityConfig config, double dynamic_fract
     state.counters["ransac_iters"] = iterations / static_cast<double>(state.iterations());
 }
 
-void BM_Ransac_10pctDynamic(benchmark::State &s) { Run(s, {}, 0.1, false); }
-void BM_Ransac_30pctObjects(benchmark::State &s) { Run(s, {}, 0.3, false); }
-void BM_Ransac_50pctBus(benchmark::State &s) { Run(s, {}, 0.5, true); }
+void BM_Ransac_10pctDynamic(benchmark::State &s) {
+    Run(s, {}, 0.1, false);
+}
+void BM_Ransac_30pctObjects(benchmark::State &s) {
+    Run(s, {}, 0.3, false);
+}
+void BM_Ransac_50pctBus(benchmark::State &s) {
+    Run(s, {}, 0.5, true);
+}
 void BM_TrimmedIrls_10pctDynamic(benchmark::State &s) {
     EgoVelocityConfig c;
     c.method = RobustMethod::kTrimmedIrls;
