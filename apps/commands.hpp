@@ -7,5 +7,7 @@
 namespace dorado::apps {
 
 void RegisterInfoCommand(CLI::App &app);
+void RegisterOdometryCommand(CLI::App &app);
+void RegisterCalibrateCommand(CLI::App &app);
 
 }  // namespace dorado::apps
