@@ -7,5 +7,6 @@
 namespace dorado::apps {
 
 void RegisterInfoCommand(CLI::App &app);
+void RegisterSimulateCommand(CLI::App &app);
 
 }  // namespace dorado::apps

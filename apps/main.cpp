@@ -13,6 +13,7 @@ int main(int argc, char **argv) {
     app.set_version_flag("--version", "dorado 0.1.0");
 
     dorado::apps::RegisterInfoCommand(app);
+    dorado::apps::RegisterSimulateCommand(app);
 
     try {
         app.parse(argc, argv);
