@@ -42,7 +42,7 @@ MovingObjects::MovingObjects(const DynamicConfig &config, const Terrain &terrain
     auto person = [&](double speed) {
         std::vector<LocalReflector> r;
         const double gait_hz = 0.9 * std::max(speed, 0.3) + 0.6;
-        const int n = 6 + static_cast<int>(rng() % 5);
+        const int n = 12 + static_cast<int>(rng() % 12);
         for (int i = 0; i < n; ++i) {
             const double part = Uniform(rng, 0.0, 1.0);
             const double z = part < 0.4 ? Uniform(rng, 0.1, 0.85) : Uniform(rng, 0.85, 1.6);
@@ -118,7 +118,7 @@ MovingObjects::MovingObjects(const DynamicConfig &config, const Terrain &terrain
                                0.05 * normal(rng);
         const double speed = Uniform(rng, 3.0, 12.0);
         add(a, heading, speed, 0.01 * normal(rng), 8.0, 12.0, {2.25, 0.9, 0.75},
-            box({2.25, 0.9, 0.75}, 45, -6.0, 10.0, speed));
+            box({2.25, 0.9, 0.75}, 90, -6.0, 10.0, speed));
     }
     for (int i = 0; i < config.large_vehicles; ++i) {
         // Overtakes the vehicle close by: while it passes it fills much of the field of view.
@@ -127,7 +127,7 @@ MovingObjects::MovingObjects(const DynamicConfig &config, const Terrain &terrain
         const auto twist = vehicle.Twist(a.t_ref);
         const double speed = std::abs(twist.v_base.x()) + Uniform(rng, 1.0, 3.0);
         add(a, a.heading, speed, 0.0, 2.0, 25.0, {6.0, 1.25, 1.75},
-            box({6.0, 1.25, 1.75}, 350, -8.0, 8.0, speed));
+            box({6.0, 1.25, 1.75}, 900, -8.0, 8.0, speed));
     }
 }
 

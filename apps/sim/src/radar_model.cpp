@@ -30,11 +30,28 @@ Polar ToPolar(const Eigen::Vector3d &p) {
 /// are rasterised by intersecting each cell's central ray with the box (slab test).
 class DepthBuffer {
 public:
-    DepthBuffer(double half_az, double half_el)
+    DepthBuffer(double half_az, double half_el, const std::vector<Eigen::Vector3d> &directions)
         : half_az_(half_az), half_el_(half_el),
           n_az_(static_cast<int>(std::ceil(2 * half_az / kCellAz))),
           n_el_(static_cast<int>(std::ceil(2 * half_el / kCellEl))),
+          directions_(directions),
           depth_(static_cast<std::size_t>(n_az_ * n_el_), std::numeric_limits<float>::infinity()) {}
+
+    /// Central ray of every cell, row by row (elevation-major), in the radar frame.
+    static std::vector<Eigen::Vector3d> CellDirections(double half_az, double half_el) {
+        const int n_az = static_cast<int>(std::ceil(2 * half_az / kCellAz));
+        const int n_el = static_cast<int>(std::ceil(2 * half_el / kCellEl));
+        std::vector<Eigen::Vector3d> directions;
+        for (int j = 0; j < n_el; ++j) {
+            const double el = -half_el + (j + 0.5) * kCellEl;
+            for (int i = 0; i < n_az; ++i) {
+                const double az = -half_az + (i + 0.5) * kCellAz;
+                directions.emplace_back(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
+                                        std::sin(el));
+            }
+        }
+        return directions;
+    }
 
     /// box corners and frame given in the radar frame.
     void Add(const Occluder &box_world, const Eigen::Isometry3d &T_radar_world) {
@@ -61,12 +78,8 @@ public:
         const int i0 = std::max(0, AzCell(az_lo)), i1 = std::min(n_az_ - 1, AzCell(az_hi));
         const int j0 = std::max(0, ElCell(el_lo)), j1 = std::min(n_el_ - 1, ElCell(el_hi));
         for (int j = j0; j <= j1; ++j) {
-            const double el = -half_el_ + (j + 0.5) * kCellEl;
             for (int i = i0; i <= i1; ++i) {
-                const double az = -half_az_ + (i + 0.5) * kCellAz;
-                const Eigen::Vector3d d_radar(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
-                                              std::sin(el));
-                const Eigen::Vector3d d = R_box_radar * d_radar;
+                const Eigen::Vector3d d = R_box_radar * directions_[static_cast<std::size_t>(j * n_az_ + i)];
                 double t_near = 0.0, t_far = 1e9;
                 for (int k = 0; k < 3 && t_near <= t_far; ++k) {
                     if (std::abs(d[k]) < 1e-12) {
@@ -98,6 +111,7 @@ private:
     [[nodiscard]] int ElCell(double el) const { return static_cast<int>(std::floor((el + half_el_) / kCellEl)); }
     double half_az_, half_el_;
     int n_az_, n_el_;
+    const std::vector<Eigen::Vector3d> &directions_;
     std::vector<float> depth_;
 };
 
@@ -164,7 +178,9 @@ struct Detection {
 
 RadarModel::RadarModel(const RadarConfig &config, const Terrain &terrain, const StaticWorld &world,
                        const MovingObjects &moving)
-    : config_(config), terrain_(terrain), world_(world), moving_(moving) {}
+    : config_(config), terrain_(terrain), world_(world), moving_(moving),
+      cell_directions_(DepthBuffer::CellDirections(0.5 * config.azimuth_fov_deg * kDeg,
+                                                   0.5 * config.elevation_fov_deg * kDeg)) {}
 
 SimulatedScan RadarModel::Measure(double t, const Eigen::Isometry3d &T_world_radar,
                                   const Eigen::Vector3d &v_world_radar, Rng &rng) const {
@@ -178,7 +194,7 @@ SimulatedScan RadarModel::Measure(double t, const Eigen::Isometry3d &T_world_rad
     std::vector<MovingReflector> moving;
     std::vector<Occluder> moving_boxes;
     moving_.Snapshot(t, origin, c.max_range_m, moving, moving_boxes);
-    DepthBuffer depth(half_az, half_el);
+    DepthBuffer depth(half_az, half_el, cell_directions_);
     world_.occluder_grid().ForEachNear(origin_xy, c.max_range_m + world_.max_occluder_radius_m(),
                                        [&](uint32_t i) { depth.Add(world_.occluders()[i], T_radar_world); });
     for (const auto &box : moving_boxes) depth.Add(box, T_radar_world);
@@ -186,8 +202,18 @@ SimulatedScan RadarModel::Measure(double t, const Eigen::Isometry3d &T_world_rad
 
     std::vector<Candidate> candidates;
     candidates.reserve(8192);
+    // Cheap cone test before any trigonometry (the field of view is narrower than 180 deg).
+    const double max_range2 = c.max_range_m * c.max_range_m;
+    const double tan_az = half_az < M_PI / 2 - 1e-3 ? std::tan(half_az) : 1e9;
+    const double tan_el = std::tan(half_el);
+    const Eigen::Matrix3f R_radar_world = T_radar_world.linear().cast<float>();
+    const Eigen::Vector3f origin_f = origin.cast<float>();
     world_.reflector_grid().ForEachNear(origin_xy, c.max_range_m, [&](uint32_t i) {
         const Reflector &r = world_.reflectors()[i];
+        const Eigen::Vector3f p = R_radar_world * (r.position_world - origin_f);
+        if (p.squaredNorm() > max_range2 || p.x() <= 0.0f) return;
+        if (std::abs(p.y()) > tan_az * p.x() + 0.5f) return;
+        if (std::abs(p.z()) > tan_el * std::hypot(p.x(), p.y()) + 0.5f) return;
         double rcs = r.rcs_dbsm;
         if (!r.normal_world.isZero()) {
             // Flat surfaces return mostly near normal incidence.
@@ -201,13 +227,15 @@ SimulatedScan RadarModel::Measure(double t, const Eigen::Isometry3d &T_world_rad
     for (const auto &m : moving) {
         candidates.push_back({m.position_world, m.velocity_world, m.rcs_dbsm, PointSource::kMoving});
     }
-    // Ground patches at short range: area-uniform samples, backscatter ~ sigma0 * sin(grazing).
+    // Ground patches at short range, uniform in azimuth and distance (so denser near the radar,
+    // where the ground is seen), each standing for its share of the area; backscatter
+    // ~ sigma0 * sin(grazing).
     const double s_min = 0.5, s_max = c.ground_max_range_m;
     const int n_ground = std::poisson_distribution<int>(c.ground_returns_per_scan)(rng);
-    const double patch_area = half_az * (s_max * s_max - s_min * s_min) / std::max(1, n_ground);
     for (int k = 0; k < n_ground; ++k) {
         const double az = Uniform(rng, -half_az, half_az);
-        const double s = std::sqrt(Uniform(rng, s_min * s_min, s_max * s_max));
+        const double s = Uniform(rng, s_min, s_max);
+        const double patch_area = 2.0 * half_az * s * (s_max - s_min) / n_ground;
         const Eigen::Vector2d h =
             (T_world_radar.linear() * Eigen::Vector3d(std::cos(az), std::sin(az), 0.0)).head<2>().normalized();
         const Eigen::Vector2d xy = origin_xy + s * h;

@@ -47,6 +47,7 @@ private:
     const Terrain &terrain_;
     const StaticWorld &world_;
     const MovingObjects &moving_;
+    std::vector<Eigen::Vector3d> cell_directions_;  ///< occlusion cells' central rays
 };
 
 /// The Hugin reports azimuth from its Y axis: 90 deg is straight ahead (+X).

@@ -109,7 +109,7 @@ struct RadarConfig {
     double detection_threshold_db = 12.0;  ///< SNR needed for a detection (after Swerling fading)
     double snr_at_1m_0dbsm_db = 95.0;      ///< radar constant: SNR of a 0 dBsm target at 1 m
     double noise_floor_db = 25.0;          ///< power = SNR + noise floor (the power field's offset)
-    double ground_returns_per_scan = 4000.0;  ///< ground patches tried per scan (near range)
+    double ground_returns_per_scan = 1500.0;  ///< ground patches tried per scan (near range)
     double ground_max_range_m = 30.0;
     double ground_sigma0_db = -18.0;       ///< ground backscatter per m^2 at normal incidence
     double clutter_per_scan = 60.0;        ///< random false detections with random Doppler
