@@ -30,8 +30,8 @@ void RunSimulate(const SimulateOptions &options) {
         throw std::runtime_error(std::string(e.what()) + " (after --seed/--duration)");
     }
     std::unique_ptr<Progress> progress;
-    const sim::SimulationResult result = sim::SimulateToDirectory(
-        config, options.out_dir, [&](std::size_t done, std::size_t total) {
+    const sim::SimulationResult result =
+        sim::SimulateToDirectory(config, options.out_dir, [&](std::size_t done, std::size_t total) {
             if (!progress) progress = std::make_unique<Progress>("simulate " + config.name, total);
             progress->Update(done);
         });
@@ -45,19 +45,22 @@ void RunSimulate(const SimulateOptions &options) {
         s.points_per_scan_max, 100.0 * s.dynamic_fraction, 100.0 * s.max_dynamic_fraction,
         100.0 * s.ghost_fraction, 100.0 * s.clutter_fraction, 100.0 * s.ground_fraction,
         s.path_length_m, s.max_abs_roll_deg, s.max_abs_pitch_deg, s.seconds_taken);
-    std::printf("wrote %s/{data.bag, ground_truth.tum, true_twist.csv, dataset.yaml, simulation.json}\n",
-                options.out_dir.c_str());
+    std::printf(
+        "wrote %s/{data.bag, ground_truth.tum, true_twist.csv, dataset.yaml, simulation.json}\n",
+        options.out_dir.c_str());
 }
 
 }  // namespace
 
 void RegisterSimulateCommand(CLI::App &app) {
-    auto *cmd = app.add_subcommand(
-        "simulate",
-        "Simulate a radar dataset (Hugin-like 4D radar, IMU, lidar-rate ground truth) from a sequence "
-        "description: a built-in name (seq04 seq05 seq06 seq07 seq08 seq11 car_urban) or a YAML file");
+    auto *cmd = app.add_subcommand("simulate",
+                                   "Simulate a radar dataset (Hugin-like 4D radar, IMU, lidar-rate "
+                                   "ground truth) from a sequence "
+                                   "description: a built-in name (seq04 seq05 seq06 seq07 seq08 "
+                                   "seq11 car_urban) or a YAML file");
     auto options = std::make_shared<SimulateOptions>();
-    cmd->add_option("--sequence", options->sequence, "built-in sequence name or a sequence YAML file")
+    cmd->add_option("--sequence", options->sequence,
+                    "built-in sequence name or a sequence YAML file")
         ->required();
     cmd->add_option("--out", options->out_dir, "output folder (created)")->required();
     cmd->add_option("--seed", options->seed, "random seed (overrides the sequence's)");

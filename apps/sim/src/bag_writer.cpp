@@ -46,7 +46,8 @@ void BagWriter::WriteRadar(const std::string &topic, const RadarScan &scan) {
     msg.header.stamp = ToRosTime(scan.stamp_ns);
     msg.header.frame_id = scan.frame_id;
     msg.header.seq = impl_->seq++;
-    static const char *kNames[] = {"x", "y", "z", "range", "elevation", "azimuth", "power", "doppler"};
+    static const char *kNames[] = {"x",         "y",       "z",     "range",
+                                   "elevation", "azimuth", "power", "doppler"};
     for (uint32_t k = 0; k < 8; ++k) {
         sensor_msgs::PointField f;
         f.name = kNames[k];
@@ -64,14 +65,11 @@ void BagWriter::WriteRadar(const std::string &topic, const RadarScan &scan) {
     msg.is_dense = true;
     msg.data.resize(static_cast<std::size_t>(msg.row_step));
     for (uint32_t i = 0; i < n; ++i) {
-        const float values[8] = {static_cast<float>(scan.xyz_radar(0, i)),
-                                 static_cast<float>(scan.xyz_radar(1, i)),
-                                 static_cast<float>(scan.xyz_radar(2, i)),
-                                 static_cast<float>(scan.range_m[i]),
-                                 static_cast<float>(scan.elevation_rad[i]),
-                                 static_cast<float>(scan.azimuth_rad[i]),
-                                 static_cast<float>(scan.power_db[i]),
-                                 static_cast<float>(scan.doppler_mps[i])};
+        const float values[8] = {
+            static_cast<float>(scan.xyz_radar(0, i)),  static_cast<float>(scan.xyz_radar(1, i)),
+            static_cast<float>(scan.xyz_radar(2, i)),  static_cast<float>(scan.range_m[i]),
+            static_cast<float>(scan.elevation_rad[i]), static_cast<float>(scan.azimuth_rad[i]),
+            static_cast<float>(scan.power_db[i]),      static_cast<float>(scan.doppler_mps[i])};
         std::memcpy(&msg.data[static_cast<std::size_t>(i) * 32], values, sizeof(values));
     }
     impl_->bag.write(topic, msg.header.stamp, msg);

@@ -46,11 +46,14 @@ MovingObjects::MovingObjects(const DynamicConfig &config, const Terrain &terrain
         for (int i = 0; i < n; ++i) {
             const double part = Uniform(rng, 0.0, 1.0);
             const double z = part < 0.4 ? Uniform(rng, 0.1, 0.85) : Uniform(rng, 0.85, 1.6);
-            const double swing = part < 0.4 ? Uniform(rng, 0.6, 1.4) * speed
+            const double swing = part < 0.4   ? Uniform(rng, 0.6, 1.4) * speed
                                  : part < 0.6 ? Uniform(rng, 0.3, 0.8) * speed
                                               : 0.0;
             r.push_back({{Uniform(rng, -0.15, 0.15), Uniform(rng, -0.22, 0.22), z},
-                         Uniform(rng, -12.0, -3.0), swing, gait_hz, Uniform(rng, 0.0, 2 * M_PI)});
+                         Uniform(rng, -12.0, -3.0),
+                         swing,
+                         gait_hz,
+                         Uniform(rng, 0.0, 2 * M_PI)});
         }
         return r;
     };
@@ -83,13 +86,15 @@ MovingObjects::MovingObjects(const DynamicConfig &config, const Terrain &terrain
 
     for (int i = 0; i < config.people; ++i) {
         const double d = Uniform(rng, d_min, d_max), bearing = Uniform(rng, -0.9, 0.9);
-        const Anchor a = AnchorNearRoute(vehicle, rng, d * std::cos(bearing), d * std::sin(bearing));
+        const Anchor a =
+            AnchorNearRoute(vehicle, rng, d * std::cos(bearing), d * std::sin(bearing));
         const double speed = Uniform(rng, 0.7, 1.6);
         add(a, Uniform(rng, 0, 2 * M_PI), speed, 0.1 * normal(rng), 15.0, 30.0, {0.25, 0.25, 0.85},
             person(speed));
     }
     for (int i = 0; i < config.crowds; ++i) {
-        const Anchor a = AnchorNearRoute(vehicle, rng, Uniform(rng, 6.0, 18.0), Uniform(rng, -6.0, 6.0));
+        const Anchor a =
+            AnchorNearRoute(vehicle, rng, Uniform(rng, 6.0, 18.0), Uniform(rng, -6.0, 6.0));
         const double heading = Uniform(rng, 0, 2 * M_PI), speed = Uniform(rng, 0.8, 1.3);
         const int n = 10 + static_cast<int>(rng() % 16);
         for (int k = 0; k < n; ++k) {
@@ -114,7 +119,10 @@ MovingObjects::MovingObjects(const DynamicConfig &config, const Terrain &terrain
         const Anchor a = AnchorNearRoute(vehicle, rng, Uniform(rng, 15.0, 50.0),
                                          side() * Uniform(rng, 3.0, 10.0));
         const int pattern = static_cast<int>(rng() % 3);  // oncoming, same way, crossing
-        const double heading = a.heading + (pattern == 0 ? M_PI : pattern == 1 ? 0.0 : M_PI / 2) +
+        const double heading = a.heading +
+                               (pattern == 0   ? M_PI
+                                : pattern == 1 ? 0.0
+                                               : M_PI / 2) +
                                0.05 * normal(rng);
         const double speed = Uniform(rng, 3.0, 12.0);
         add(a, heading, speed, 0.01 * normal(rng), 8.0, 12.0, {2.25, 0.9, 0.75},
@@ -157,17 +165,19 @@ void MovingObjects::Snapshot(double t, const Eigen::Vector3d &center, double rad
             return Eigen::Vector3d(p.x(), p.y(), terrain_.SmoothHeight(p.x(), p.y()));
         };
         const Eigen::Vector3d origin = ground(pose);
-        const Eigen::Vector3d v_origin = (ground(PlanarPose(o, t + h)) - ground(PlanarPose(o, t - h))) / (2 * h);
+        const Eigen::Vector3d v_origin =
+            (ground(PlanarPose(o, t + h)) - ground(PlanarPose(o, t - h))) / (2 * h);
         const Eigen::Matrix3d R =
             Eigen::AngleAxisd(pose.z(), Eigen::Vector3d::UnitZ()).toRotationMatrix();
         const Eigen::Vector3d omega(0.0, 0.0, o.yaw_rate_radps);
         for (const auto &r : o.reflectors) {
             const Eigen::Vector3d arm = R * r.offset_m;
             const double swing = r.swing_mps * std::sin(2 * M_PI * r.swing_hz * t + r.swing_phase);
-            reflectors.push_back({origin + arm, v_origin + omega.cross(arm) + swing * R.col(0),
-                                  r.rcs_dbsm});
+            reflectors.push_back(
+                {origin + arm, v_origin + omega.cross(arm) + swing * R.col(0), r.rcs_dbsm});
         }
-        boxes.push_back({origin + Eigen::Vector3d(0, 0, o.half_extent_m.z()), o.half_extent_m, pose.z()});
+        boxes.push_back(
+            {origin + Eigen::Vector3d(0, 0, o.half_extent_m.z()), o.half_extent_m, pose.z()});
     }
 }
 

@@ -26,7 +26,8 @@ std::string StampSeconds(int64_t stamp_ns) {
 
 void WriteTrueTwists(const std::string &path, const std::vector<TrueTwist> &twists) {
     io::WriteFileAtomically(path, [&](std::ostream &out) {
-        out << "t,v_base_x,v_base_y,v_base_z,omega_x,omega_y,omega_z,v_radar_x,v_radar_y,v_radar_z\n";
+        out << "t,v_base_x,v_base_y,v_base_z,omega_x,omega_y,omega_z,v_radar_x,v_radar_y,v_radar_"
+               "z\n";
         out << std::setprecision(12);
         for (const auto &tw : twists) {
             out << StampSeconds(tw.stamp_ns);
@@ -60,8 +61,10 @@ nlohmann::json StatsJson(const SequenceConfig &config, const SimulationStats &s)
             {"seed", config.seed},
             {"duration_s", s.duration_s},
             {"scans", s.scans},
-            {"points_per_scan", {{"mean", s.points_per_scan_mean}, {"min", s.points_per_scan_min},
-                                 {"max", s.points_per_scan_max}}},
+            {"points_per_scan",
+             {{"mean", s.points_per_scan_mean},
+              {"min", s.points_per_scan_min},
+              {"max", s.points_per_scan_max}}},
             {"dynamic_fraction", s.dynamic_fraction},
             {"max_dynamic_fraction", s.max_dynamic_fraction},
             {"ground_fraction", s.ground_fraction},
@@ -93,13 +96,14 @@ SimulationResult SimulateToDirectory(const SequenceConfig &config, const std::st
     SimulationResult result = Simulate(config, bag_tmp, topics, progress);
     std::error_code ec;
     fs::rename(bag_tmp, dir / "data.bag", ec);
-    if (ec) throw std::runtime_error((dir / "data.bag").string() + ": cannot rename: " + ec.message());
+    if (ec)
+        throw std::runtime_error((dir / "data.bag").string() + ": cannot rename: " + ec.message());
     io::WriteTum((dir / "ground_truth.tum").string(), result.ground_truth);
     WriteTrueTwists((dir / "true_twist.csv").string(), result.twists);
     const std::string yaml = io::DatasetConfigToYaml(DescribeDataset(config, result, topics));
     io::WriteFileAtomically((dir / "dataset.yaml").string(), [&](std::ostream &out) {
-        out << "# Written by `dorado simulate` (sequence " << config.name << ", seed " << config.seed
-            << "). Every dorado command reads this description.\n"
+        out << "# Written by `dorado simulate` (sequence " << config.name << ", seed "
+            << config.seed << "). Every dorado command reads this description.\n"
             << yaml;
     });
     io::WriteFileAtomically((dir / "simulation.json").string(), [&](std::ostream &out) {

@@ -15,7 +15,9 @@ using Rng = std::mt19937_64;
 double Uniform(Rng &rng, double lo, double hi) {
     return std::uniform_real_distribution<double>(lo, hi)(rng);
 }
-double Gaussian(Rng &rng) { return std::normal_distribution<double>(0.0, 1.0)(rng); }
+double Gaussian(Rng &rng) {
+    return std::normal_distribution<double>(0.0, 1.0)(rng);
+}
 
 /// Azimuth (from X towards Y) and elevation (from the XY plane) of a radar-frame vector.
 struct Polar {
@@ -29,9 +31,10 @@ Polar ToPolar(const Eigen::Vector3d &p) {
 /// Range to the nearest opaque surface per (azimuth, elevation) cell of the field of view: boxes
 /// are rasterised by intersecting each cell's central ray with the box (slab test).
 class DepthBuffer {
-public:
+  public:
     DepthBuffer(double half_az, double half_el, const std::vector<Eigen::Vector3d> &directions)
-        : half_az_(half_az), half_el_(half_el),
+        : half_az_(half_az),
+          half_el_(half_el),
           n_az_(static_cast<int>(std::ceil(2 * half_az / kCellAz))),
           n_el_(static_cast<int>(std::ceil(2 * half_el / kCellEl))),
           directions_(directions),
@@ -79,14 +82,16 @@ public:
         const int j0 = std::max(0, ElCell(el_lo)), j1 = std::min(n_el_ - 1, ElCell(el_hi));
         for (int j = j0; j <= j1; ++j) {
             for (int i = i0; i <= i1; ++i) {
-                const Eigen::Vector3d d = R_box_radar * directions_[static_cast<std::size_t>(j * n_az_ + i)];
+                const Eigen::Vector3d d =
+                    R_box_radar * directions_[static_cast<std::size_t>(j * n_az_ + i)];
                 double t_near = 0.0, t_far = 1e9;
                 for (int k = 0; k < 3 && t_near <= t_far; ++k) {
                     if (std::abs(d[k]) < 1e-12) {
                         if (std::abs(origin_box[k]) > half[k]) t_near = 2e9;
                         continue;
                     }
-                    double ta = (-half[k] - origin_box[k]) / d[k], tb = (half[k] - origin_box[k]) / d[k];
+                    double ta = (-half[k] - origin_box[k]) / d[k],
+                           tb = (half[k] - origin_box[k]) / d[k];
                     if (ta > tb) std::swap(ta, tb);
                     t_near = std::max(t_near, ta);
                     t_far = std::min(t_far, tb);
@@ -100,15 +105,20 @@ public:
 
     [[nodiscard]] double Depth(double az, double el) const {
         const int i = AzCell(az), j = ElCell(el);
-        if (i < 0 || i >= n_az_ || j < 0 || j >= n_el_) return std::numeric_limits<double>::infinity();
+        if (i < 0 || i >= n_az_ || j < 0 || j >= n_el_)
+            return std::numeric_limits<double>::infinity();
         return depth_[static_cast<std::size_t>(j * n_az_ + i)];
     }
 
-private:
+  private:
     static constexpr double kCellAz = 0.5 * kDeg;
     static constexpr double kCellEl = 1.0 * kDeg;
-    [[nodiscard]] int AzCell(double az) const { return static_cast<int>(std::floor((az + half_az_) / kCellAz)); }
-    [[nodiscard]] int ElCell(double el) const { return static_cast<int>(std::floor((el + half_el_) / kCellEl)); }
+    [[nodiscard]] int AzCell(double az) const {
+        return static_cast<int>(std::floor((az + half_az_) / kCellAz));
+    }
+    [[nodiscard]] int ElCell(double el) const {
+        return static_cast<int>(std::floor((el + half_el_) / kCellEl));
+    }
     double half_az_, half_el_;
     int n_az_, n_el_;
     const std::vector<Eigen::Vector3d> &directions_;
@@ -118,22 +128,25 @@ private:
 /// The terrain's horizon seen from the radar, per azimuth sector: the highest elevation angle
 /// (world frame) of the ground up to each horizontal distance. Hills hide what is behind them.
 class TerrainHorizon {
-public:
+  public:
     TerrainHorizon(const Terrain &terrain, const Eigen::Isometry3d &T_world_radar, double half_az,
                    double max_range)
-        : origin_(T_world_radar.translation()), half_az_(half_az),
+        : origin_(T_world_radar.translation()),
+          half_az_(half_az),
           n_az_(static_cast<int>(std::ceil(2 * half_az / kCellAz))),
           n_steps_(static_cast<int>(max_range / kStep) + 1),
           horizon_(static_cast<std::size_t>(n_az_ * n_steps_)) {
         for (int i = 0; i < n_az_; ++i) {
             const double az = -half_az + (i + 0.5) * kCellAz;
-            const Eigen::Vector3d d = T_world_radar.linear() * Eigen::Vector3d(std::cos(az), std::sin(az), 0.0);
+            const Eigen::Vector3d d =
+                T_world_radar.linear() * Eigen::Vector3d(std::cos(az), std::sin(az), 0.0);
             const Eigen::Vector2d h = d.head<2>().normalized();
             double highest = -M_PI / 2;
             for (int k = 0; k < n_steps_; ++k) {
                 const double s = (k + 1) * kStep;
                 const Eigen::Vector2d xy = origin_.head<2>() + s * h;
-                highest = std::max(highest, std::atan2(terrain.SmoothHeight(xy.x(), xy.y()) - origin_.z(), s));
+                highest = std::max(
+                    highest, std::atan2(terrain.SmoothHeight(xy.x(), xy.y()) - origin_.z(), s));
                 horizon_[static_cast<std::size_t>(i * n_steps_ + k)] = static_cast<float>(highest);
             }
         }
@@ -148,10 +161,11 @@ public:
         const int k = static_cast<int>(s / kStep) - 2;
         if (k < 0) return false;
         const double elevation = std::atan2(v.z(), s);
-        return elevation < horizon_[static_cast<std::size_t>(i * n_steps_ + std::min(k, n_steps_ - 1))] - 0.002;
+        return elevation <
+               horizon_[static_cast<std::size_t>(i * n_steps_ + std::min(k, n_steps_ - 1))] - 0.002;
     }
 
-private:
+  private:
     static constexpr double kCellAz = 2.0 * kDeg;
     static constexpr double kStep = 2.0;
     Eigen::Vector3d origin_;
@@ -178,14 +192,18 @@ struct Detection {
 
 RadarModel::RadarModel(const RadarConfig &config, const Terrain &terrain, const StaticWorld &world,
                        const MovingObjects &moving)
-    : config_(config), terrain_(terrain), world_(world), moving_(moving),
+    : config_(config),
+      terrain_(terrain),
+      world_(world),
+      moving_(moving),
       cell_directions_(DepthBuffer::CellDirections(0.5 * config.azimuth_fov_deg * kDeg,
                                                    0.5 * config.elevation_fov_deg * kDeg)) {}
 
 SimulatedScan RadarModel::Measure(double t, const Eigen::Isometry3d &T_world_radar,
                                   const Eigen::Vector3d &v_world_radar, Rng &rng) const {
     const RadarConfig &c = config_;
-    const double half_az = 0.5 * c.azimuth_fov_deg * kDeg, half_el = 0.5 * c.elevation_fov_deg * kDeg;
+    const double half_az = 0.5 * c.azimuth_fov_deg * kDeg,
+                 half_el = 0.5 * c.elevation_fov_deg * kDeg;
     const Eigen::Isometry3d T_radar_world = T_world_radar.inverse();
     const Eigen::Vector3d origin = T_world_radar.translation();
     const Eigen::Vector2d origin_xy = origin.head<2>();
@@ -195,8 +213,9 @@ SimulatedScan RadarModel::Measure(double t, const Eigen::Isometry3d &T_world_rad
     std::vector<Occluder> moving_boxes;
     moving_.Snapshot(t, origin, c.max_range_m, moving, moving_boxes);
     DepthBuffer depth(half_az, half_el, cell_directions_);
-    world_.occluder_grid().ForEachNear(origin_xy, c.max_range_m + world_.max_occluder_radius_m(),
-                                       [&](uint32_t i) { depth.Add(world_.occluders()[i], T_radar_world); });
+    world_.occluder_grid().ForEachNear(
+        origin_xy, c.max_range_m + world_.max_occluder_radius_m(),
+        [&](uint32_t i) { depth.Add(world_.occluders()[i], T_radar_world); });
     for (const auto &box : moving_boxes) depth.Add(box, T_radar_world);
     const TerrainHorizon horizon(terrain_, T_world_radar, half_az, c.max_range_m);
 
@@ -221,11 +240,12 @@ SimulatedScan RadarModel::Measure(double t, const Eigen::Isometry3d &T_world_rad
             const double cos_i = std::abs(d.dot(r.normal_world.cast<double>()));
             rcs += 10.0 * std::log10(0.03 + 0.97 * cos_i * cos_i);
         }
-        candidates.push_back({r.position_world.cast<double>(), Eigen::Vector3d::Zero(), rcs,
-                              PointSource::kStatic});
+        candidates.push_back(
+            {r.position_world.cast<double>(), Eigen::Vector3d::Zero(), rcs, PointSource::kStatic});
     });
     for (const auto &m : moving) {
-        candidates.push_back({m.position_world, m.velocity_world, m.rcs_dbsm, PointSource::kMoving});
+        candidates.push_back(
+            {m.position_world, m.velocity_world, m.rcs_dbsm, PointSource::kMoving});
     }
     // Ground patches at short range, uniform in azimuth and distance (so denser near the radar,
     // where the ground is seen), each standing for its share of the area; backscatter
@@ -237,7 +257,9 @@ SimulatedScan RadarModel::Measure(double t, const Eigen::Isometry3d &T_world_rad
         const double s = Uniform(rng, s_min, s_max);
         const double patch_area = 2.0 * half_az * s * (s_max - s_min) / n_ground;
         const Eigen::Vector2d h =
-            (T_world_radar.linear() * Eigen::Vector3d(std::cos(az), std::sin(az), 0.0)).head<2>().normalized();
+            (T_world_radar.linear() * Eigen::Vector3d(std::cos(az), std::sin(az), 0.0))
+                .head<2>()
+                .normalized();
         const Eigen::Vector2d xy = origin_xy + s * h;
         const Eigen::Vector3d g(xy.x(), xy.y(), terrain_.Height(xy.x(), xy.y()));
         const double sin_grazing = -(g - origin).normalized().dot(terrain_.Normal(xy.x(), xy.y()));
@@ -251,11 +273,12 @@ SimulatedScan RadarModel::Measure(double t, const Eigen::Isometry3d &T_world_rad
         return (p_world - origin).normalized().dot(v_world - v_world_radar);
     };
     const auto in_fov = [&](const Polar &p) {
-        return p.range >= c.min_range_m && p.range <= c.max_range_m && std::abs(p.azimuth) <= half_az &&
-               std::abs(p.elevation) <= half_el;
+        return p.range >= c.min_range_m && p.range <= c.max_range_m &&
+               std::abs(p.azimuth) <= half_az && std::abs(p.elevation) <= half_el;
     };
     const auto snr_of = [&](double rcs, const Polar &p) {
-        const double gain_db = -3.0 * (std::pow(p.azimuth / half_az, 2) + std::pow(p.elevation / half_el, 2));
+        const double gain_db =
+            -3.0 * (std::pow(p.azimuth / half_az, 2) + std::pow(p.elevation / half_el, 2));
         return c.snr_at_1m_0dbsm_db + rcs - 40.0 * std::log10(p.range) + gain_db;
     };
     const auto fading_db = [&] { return 10.0 * std::log10(-std::log(Uniform(rng, 1e-12, 1.0))); };
@@ -276,8 +299,9 @@ SimulatedScan RadarModel::Measure(double t, const Eigen::Isometry3d &T_world_rad
         // Strong returns make ghosts.
         if (Uniform(rng, 0, 1) < c.ghost_probability) {  // angular ambiguity: wrong direction
             const double shift = (rng() % 2 ? 1.0 : -1.0) * Uniform(rng, 8.0, 25.0) * kDeg;
-            detections.push_back({p.range, p.azimuth + shift, p.elevation + 2.0 * kDeg * Gaussian(rng),
-                                  doppler, snr - Uniform(rng, 10.0, 20.0), PointSource::kGhost});
+            detections.push_back({p.range, p.azimuth + shift,
+                                  p.elevation + 2.0 * kDeg * Gaussian(rng), doppler,
+                                  snr - Uniform(rng, 10.0, 20.0), PointSource::kGhost});
         }
         if (Uniform(rng, 0, 1) < c.double_bounce_probability) {  // radar-target-radar-target
             detections.push_back({2.0 * p.range, p.azimuth, p.elevation, 2.0 * doppler,
@@ -299,10 +323,11 @@ SimulatedScan RadarModel::Measure(double t, const Eigen::Isometry3d &T_world_rad
     // Clutter: false alarms anywhere, with any Doppler.
     const double v_spread = std::max(3.0, 2.0 * v_world_radar.norm());
     for (int k = std::poisson_distribution<int>(c.clutter_per_scan)(rng); k > 0; --k) {
-        detections.push_back({Uniform(rng, c.min_range_m, c.max_range_m), Uniform(rng, -half_az, half_az),
-                              Uniform(rng, -half_el, half_el), Uniform(rng, -v_spread, v_spread),
-                              c.detection_threshold_db + std::exponential_distribution<double>(0.3)(rng),
-                              PointSource::kClutter});
+        detections.push_back(
+            {Uniform(rng, c.min_range_m, c.max_range_m), Uniform(rng, -half_az, half_az),
+             Uniform(rng, -half_el, half_el), Uniform(rng, -v_spread, v_spread),
+             c.detection_threshold_db + std::exponential_distribution<double>(0.3)(rng),
+             PointSource::kClutter});
     }
     // Ghosts outside the field of view or too weak are not seen.
     detections.erase(std::remove_if(detections.begin(), detections.end(),
@@ -313,8 +338,9 @@ SimulatedScan RadarModel::Measure(double t, const Eigen::Isometry3d &T_world_rad
                      detections.end());
     // The sensor reports at most max_points detections: the strongest.
     if (detections.size() > static_cast<std::size_t>(c.max_points)) {
-        std::nth_element(detections.begin(), detections.begin() + c.max_points, detections.end(),
-                         [](const Detection &a, const Detection &b) { return a.snr_db > b.snr_db; });
+        std::nth_element(
+            detections.begin(), detections.begin() + c.max_points, detections.end(),
+            [](const Detection &a, const Detection &b) { return a.snr_db > b.snr_db; });
         detections.resize(static_cast<std::size_t>(c.max_points));
     }
     std::sort(detections.begin(), detections.end(),
@@ -328,10 +354,13 @@ SimulatedScan RadarModel::Measure(double t, const Eigen::Isometry3d &T_world_rad
     for (std::size_t k = 0; k < detections.size(); ++k) {
         const Detection &d = detections[k];
         // Weak returns are measured worse, Doppler above all.
-        const double weak = std::sqrt(1.0 + std::pow(10.0, (c.doppler_snr_ref_db - d.snr_db) / 10.0));
+        const double weak =
+            std::sqrt(1.0 + std::pow(10.0, (c.doppler_snr_ref_db - d.snr_db) / 10.0));
         const double range = std::max(0.05, d.range + c.range_sigma_m * Gaussian(rng));
-        const double az = d.azimuth + std::min(weak, 3.0) * c.azimuth_sigma_deg * kDeg * Gaussian(rng);
-        const double el = d.elevation + std::min(weak, 3.0) * c.elevation_sigma_deg * kDeg * Gaussian(rng);
+        const double az =
+            d.azimuth + std::min(weak, 3.0) * c.azimuth_sigma_deg * kDeg * Gaussian(rng);
+        const double el =
+            d.elevation + std::min(weak, 3.0) * c.elevation_sigma_deg * kDeg * Gaussian(rng);
         double doppler = d.doppler + weak * c.doppler_sigma_mps * Gaussian(rng);
         if (c.doppler_unambiguous_mps > 0.0) {
             const double span = 2.0 * c.doppler_unambiguous_mps;

@@ -15,14 +15,15 @@ namespace {
 
 /// One YAML mapping; remembers which keys were read so that a misspelled key is an error.
 class Section {
-public:
+  public:
     Section(YAML::Node node, std::string file, std::string prefix)
         : node_(std::move(node)), file_(std::move(file)), prefix_(std::move(prefix)) {
         if (node_ && !node_.IsNull() && !node_.IsMap()) Fail("", "must be a mapping");
     }
 
     [[noreturn]] void Fail(const std::string &key, const std::string &what) const {
-        const std::string full = key.empty() ? (prefix_.empty() ? "(top level)" : prefix_) : Key(key);
+        const std::string full =
+            key.empty() ? (prefix_.empty() ? "(top level)" : prefix_) : Key(key);
         throw SequenceConfigError(file_ + ": key '" + full + "': " + what);
     }
 
@@ -33,7 +34,8 @@ public:
         try {
             value = node_[key].as<T>();
         } catch (const YAML::Exception &) {
-            Fail(key, "has the wrong type (line " + std::to_string(node_[key].Mark().line + 1) + ")");
+            Fail(key,
+                 "has the wrong type (line " + std::to_string(node_[key].Mark().line + 1) + ")");
         }
     }
 
@@ -60,7 +62,7 @@ public:
         }
     }
 
-private:
+  private:
     [[nodiscard]] std::string Key(const std::string &key) const {
         return prefix_.empty() ? key : prefix_ + "." + key;
     }
@@ -198,7 +200,7 @@ void ReadGroundTruth(Section s, GroundTruthConfig &g) {
 
 /// Collects the first violated range check as an error naming the key.
 class Checker {
-public:
+  public:
     explicit Checker(std::string file) : file_(std::move(file)) {}
     void Require(bool ok, const std::string &key, const std::string &what) const {
         if (!ok) throw SequenceConfigError(file_ + ": key '" + key + "': " + what);
@@ -216,7 +218,7 @@ public:
         Require(v.allFinite(), key, "must be finite");
     }
 
-private:
+  private:
     static std::string Str(double v) { return std::to_string(v); }
     std::string file_;
 };
@@ -264,16 +266,15 @@ void SequenceConfig::Validate() const {
     c.NonNegative(terrain.side_slope_height_m, "terrain.side_slope_height_m");
     c.NonNegative(terrain.roughness_m, "terrain.roughness_m");
     c.Positive(terrain.roughness_wavelength_m, "terrain.roughness_wavelength_m");
-    for (const auto &[v, key] :
-         {std::pair{world.trees_per_1000m2, "world.trees_per_1000m2"},
-          {world.poles_per_1000m2, "world.poles_per_1000m2"},
-          {world.rocks_per_1000m2, "world.rocks_per_1000m2"},
-          {world.bushes_per_1000m2, "world.bushes_per_1000m2"},
-          {world.buildings_per_1000m2, "world.buildings_per_1000m2"},
-          {world.walls_per_1000m2, "world.walls_per_1000m2"},
-          {world.parked_cars_per_1000m2, "world.parked_cars_per_1000m2"},
-          {world.vegetation_per_m2, "world.vegetation_per_m2"},
-          {world.clearance_m, "world.clearance_m"}}) {
+    for (const auto &[v, key] : {std::pair{world.trees_per_1000m2, "world.trees_per_1000m2"},
+                                 {world.poles_per_1000m2, "world.poles_per_1000m2"},
+                                 {world.rocks_per_1000m2, "world.rocks_per_1000m2"},
+                                 {world.bushes_per_1000m2, "world.bushes_per_1000m2"},
+                                 {world.buildings_per_1000m2, "world.buildings_per_1000m2"},
+                                 {world.walls_per_1000m2, "world.walls_per_1000m2"},
+                                 {world.parked_cars_per_1000m2, "world.parked_cars_per_1000m2"},
+                                 {world.vegetation_per_m2, "world.vegetation_per_m2"},
+                                 {world.clearance_m, "world.clearance_m"}}) {
         c.NonNegative(v, key);
     }
     c.Positive(world.corridor_half_width_m, "world.corridor_half_width_m");
@@ -302,10 +303,12 @@ void SequenceConfig::Validate() const {
     c.NonNegative(radar.azimuth_sigma_deg, "radar.azimuth_sigma_deg");
     c.NonNegative(radar.elevation_sigma_deg, "radar.elevation_sigma_deg");
     c.NonNegative(radar.doppler_sigma_mps, "radar.doppler_sigma_mps");
-    c.Require(std::isfinite(radar.doppler_snr_ref_db), "radar.doppler_snr_ref_db", "must be finite");
+    c.Require(std::isfinite(radar.doppler_snr_ref_db), "radar.doppler_snr_ref_db",
+              "must be finite");
     c.Require(std::isfinite(radar.detection_threshold_db), "radar.detection_threshold_db",
               "must be finite");
-    c.Require(std::isfinite(radar.snr_at_1m_0dbsm_db), "radar.snr_at_1m_0dbsm_db", "must be finite");
+    c.Require(std::isfinite(radar.snr_at_1m_0dbsm_db), "radar.snr_at_1m_0dbsm_db",
+              "must be finite");
     c.Require(std::isfinite(radar.noise_floor_db), "radar.noise_floor_db", "must be finite");
     c.NonNegative(radar.ground_returns_per_scan, "radar.ground_returns_per_scan");
     c.Require(radar.ground_returns_per_scan <= 1e6, "radar.ground_returns_per_scan", "at most 1e6");
@@ -374,8 +377,8 @@ std::string FindSequenceFile(const std::string &name_or_path) {
                                  fs::path(name_or_path).extension() == ".yaml";
     if (!looks_like_path) {
         const std::string file = name_or_path + ".yaml";
-        for (const fs::path &dir : {fs::path("configs/sequences"),
-                                   fs::path(DORADO_SEQUENCES_DIR)}) {
+        for (const fs::path &dir :
+             {fs::path("configs/sequences"), fs::path(DORADO_SEQUENCES_DIR)}) {
             if (fs::is_regular_file(dir / file)) return (dir / file).string();
         }
     }

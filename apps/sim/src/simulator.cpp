@@ -89,22 +89,27 @@ SimulationResult Simulate(const SequenceConfig &config, const std::string &bag_p
         ++next->index;
         if (next == &gt_clock) {
             const Eigen::Isometry3d T_true = vehicle.Pose(t);
-            const Eigen::Isometry3d T_reported = mapper_error.Perturb(T_true, NanosToSeconds(t_ns - last_gt_ns));
+            const Eigen::Isometry3d T_reported =
+                mapper_error.Perturb(T_true, NanosToSeconds(t_ns - last_gt_ns));
             last_gt_ns = t_ns;
             result.ground_truth.Append(stamp_ns, T_reported);
             result.true_trajectory.Append(stamp_ns, T_true);
-            bag.WriteOdometry(topics.ground_truth, topics.world_frame, topics.base_frame, stamp_ns, T_reported);
+            bag.WriteOdometry(topics.ground_truth, topics.world_frame, topics.base_frame, stamp_ns,
+                              T_reported);
         } else if (next == &imu_clock) {
             bag.WriteImu(topics.imu, config.imu.frame_id, imu.Measure(t, stamp_ns, vehicle));
         } else {
             const Eigen::Isometry3d T_world_base = vehicle.Pose(t);
             const BaseTwist twist = vehicle.Twist(t);
             // Rigid body (paper eq. 5): v_radar = R_base_radar^T (v_base + omega x t_base_radar).
-            const Eigen::Vector3d v_radar_base = twist.v_base + twist.omega_base.cross(T_base_radar.translation());
+            const Eigen::Vector3d v_radar_base =
+                twist.v_base + twist.omega_base.cross(T_base_radar.translation());
             const Eigen::Vector3d v_radar = T_base_radar.linear().transpose() * v_radar_base;
             const Eigen::Isometry3d T_world_radar = T_world_base * T_base_radar;
-            std::mt19937_64 rng(config.seed * 1000003ull + static_cast<uint64_t>(radar_clock.index));
-            SimulatedScan sim = radar.Measure(t, T_world_radar, T_world_base.linear() * v_radar_base, rng);
+            std::mt19937_64 rng(config.seed * 1000003ull +
+                                static_cast<uint64_t>(radar_clock.index));
+            SimulatedScan sim =
+                radar.Measure(t, T_world_radar, T_world_base.linear() * v_radar_base, rng);
             sim.scan.stamp_ns = stamp_ns;
             bag.WriteRadar(topics.radar, sim.scan);
             result.twists.push_back({stamp_ns, twist.v_base, twist.omega_base, v_radar});
@@ -122,12 +127,15 @@ SimulationResult Simulate(const SequenceConfig &config, const std::string &bag_p
             stats.points_per_scan_min = std::min(stats.points_per_scan_min, n);
             stats.points_per_scan_max = std::max(stats.points_per_scan_max, n);
             if (n > 0) {
-                stats.max_dynamic_fraction = std::max(
-                    stats.max_dynamic_fraction, static_cast<double>(moving_here) / static_cast<double>(n));
+                stats.max_dynamic_fraction =
+                    std::max(stats.max_dynamic_fraction,
+                             static_cast<double>(moving_here) / static_cast<double>(n));
             }
             const Eigen::Vector2d roll_pitch = RollPitch(T_world_base.linear());
-            stats.max_abs_roll_deg = std::max(stats.max_abs_roll_deg, std::abs(roll_pitch.x()) * 180.0 / M_PI);
-            stats.max_abs_pitch_deg = std::max(stats.max_abs_pitch_deg, std::abs(roll_pitch.y()) * 180.0 / M_PI);
+            stats.max_abs_roll_deg =
+                std::max(stats.max_abs_roll_deg, std::abs(roll_pitch.x()) * 180.0 / M_PI);
+            stats.max_abs_pitch_deg =
+                std::max(stats.max_abs_pitch_deg, std::abs(roll_pitch.y()) * 180.0 / M_PI);
             sum_roll_rate2 += twist.omega_base.x() * twist.omega_base.x();
             sum_pitch_rate2 += twist.omega_base.y() * twist.omega_base.y();
             stats.max_speed_mps = std::max(stats.max_speed_mps, twist.v_base.norm());
@@ -140,7 +148,8 @@ SimulationResult Simulate(const SequenceConfig &config, const std::string &bag_p
     stats.imu_samples = static_cast<std::size_t>(imu_clock.index);
     stats.ground_truth_poses = result.ground_truth.size();
     const double points = std::max<double>(1.0, static_cast<double>(n_points));
-    stats.points_per_scan_mean = static_cast<double>(n_points) / std::max<double>(1.0, static_cast<double>(stats.scans));
+    stats.points_per_scan_mean =
+        static_cast<double>(n_points) / std::max<double>(1.0, static_cast<double>(stats.scans));
     if (stats.scans == 0) stats.points_per_scan_min = 0;
     stats.dynamic_fraction = static_cast<double>(n_moving) / points;
     stats.ground_fraction = static_cast<double>(n_ground) / points;

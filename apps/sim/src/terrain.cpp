@@ -51,9 +51,13 @@ double Terrain::Sum(const std::vector<Wave> &waves, double x, double y) {
     return h;
 }
 
-double Terrain::Height(double x, double y) const { return Sum(hills_, x, y) + Sum(bumps_, x, y); }
+double Terrain::Height(double x, double y) const {
+    return Sum(hills_, x, y) + Sum(bumps_, x, y);
+}
 
-double Terrain::SmoothHeight(double x, double y) const { return Sum(hills_, x, y); }
+double Terrain::SmoothHeight(double x, double y) const {
+    return Sum(hills_, x, y);
+}
 
 Eigen::Vector3d Terrain::Normal(double x, double y) const {
     Eigen::Vector2d gradient = Eigen::Vector2d::Zero();

@@ -12,7 +12,9 @@ namespace {
 
 constexpr double kGravity = 9.81;
 
-double WrapAngle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
+double WrapAngle(double a) {
+    return std::atan2(std::sin(a), std::cos(a));
+}
 
 /// The speed and yaw rate the driver aims for during one segment of the route.
 struct Segment {
@@ -146,7 +148,8 @@ Eigen::Isometry3d VehicleTrajectory::Pose(double t) const {
     const Eigen::Vector3d front_right = contact(rear + wheelbase * forward - half_track * left);
     const Eigen::Vector3d rear_mid = 0.5 * (rear_left + rear_right);
     const Eigen::Vector3d x_axis = (0.5 * (front_left + front_right) - rear_mid).normalized();
-    const Eigen::Vector3d across = 0.5 * (rear_left + front_left) - 0.5 * (rear_right + front_right);
+    const Eigen::Vector3d across =
+        0.5 * (rear_left + front_left) - 0.5 * (rear_right + front_right);
     const Eigen::Vector3d z_axis = x_axis.cross(across).normalized();
     Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
     T_world_base.linear() << x_axis, z_axis.cross(x_axis), z_axis;
@@ -174,7 +177,8 @@ Eigen::Vector3d VehicleTrajectory::PointAccelerationWorld(double t,
 std::vector<Eigen::Vector2d> VehicleTrajectory::RouteSamples() const {
     std::vector<Eigen::Vector2d> samples;
     const auto step = static_cast<std::size_t>(0.5 / dt_s_);
-    for (std::size_t k = 0; k < knots_.size(); k += step) samples.push_back(knots_[k].xy_yaw.head<2>());
+    for (std::size_t k = 0; k < knots_.size(); k += step)
+        samples.push_back(knots_[k].xy_yaw.head<2>());
     samples.push_back(knots_.back().xy_yaw.head<2>());
     return samples;
 }

@@ -14,14 +14,15 @@ double Uniform(Rng &rng, double lo, double hi) {
 
 /// Appends reflectors and occluders for one object; every builder stands the object on the ground.
 class Builder {
-public:
+  public:
     Builder(const Terrain &terrain, Rng &rng, std::vector<Reflector> &reflectors,
             std::vector<Occluder> &occluders)
         : terrain_(terrain), rng_(rng), reflectors_(reflectors), occluders_(occluders) {}
 
     void Reflect(const Eigen::Vector3d &p, double rcs_dbsm,
                  const Eigen::Vector3d &normal = Eigen::Vector3d::Zero()) {
-        reflectors_.push_back({p.cast<float>(), normal.cast<float>(), static_cast<float>(rcs_dbsm)});
+        reflectors_.push_back(
+            {p.cast<float>(), normal.cast<float>(), static_cast<float>(rcs_dbsm)});
     }
     void Block(const Eigen::Vector3d &center, const Eigen::Vector3d &half, double yaw) {
         occluders_.push_back({center, half, yaw});
@@ -149,7 +150,8 @@ public:
     void Vegetation(const Eigen::Vector2d &lo, double size, double per_m2) {
         std::poisson_distribution<int> count(per_m2 * size * size);
         for (int n = count(rng_); n > 0; --n) {
-            const Eigen::Vector2d xy = lo + size * Eigen::Vector2d(Uniform(rng_, 0, 1), Uniform(rng_, 0, 1));
+            const Eigen::Vector2d xy =
+                lo + size * Eigen::Vector2d(Uniform(rng_, 0, 1), Uniform(rng_, 0, 1));
             Reflect({xy.x(), xy.y(), terrain_.Height(xy.x(), xy.y()) + Uniform(rng_, 0.05, 0.6)},
                     Uniform(rng_, -26.0, -6.0));
         }
@@ -159,7 +161,8 @@ public:
         const double z0 = Ground(xy);
         const double yaw = Uniform(rng_, 0.0, 2 * M_PI);
         const Eigen::Vector3d half(2.25, 0.9, 0.75);
-        const Eigen::Matrix3d R = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        const Eigen::Matrix3d R =
+            Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
         const Eigen::Vector3d center(xy.x(), xy.y(), z0 + half.z());
         for (int i = 0; i < 30; ++i) {
             Eigen::Vector3d u = Cube();
@@ -171,7 +174,7 @@ public:
         Block(center, half, yaw);
     }
 
-private:
+  private:
     const Terrain &terrain_;
     Rng &rng_;
     std::vector<Reflector> &reflectors_;
@@ -181,7 +184,8 @@ private:
 }  // namespace
 
 std::array<Eigen::Vector3d, 8> Occluder::Corners() const {
-    const Eigen::Matrix3d R = Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Matrix3d R =
+        Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     std::array<Eigen::Vector3d, 8> corners;
     for (int i = 0; i < 8; ++i) {
         const Eigen::Vector3d s((i & 1) ? 1.0 : -1.0, (i & 2) ? 1.0 : -1.0, (i & 4) ? 1.0 : -1.0);
@@ -206,7 +210,8 @@ void CellGrid::Build(const std::vector<Eigen::Vector2d> &item_xy) {
     for (std::size_t c = 0; c < n_cells; ++c) offsets_[c + 1] += offsets_[c];
     items_.resize(item_xy.size());
     std::vector<uint32_t> fill(offsets_.begin(), offsets_.end() - 1);
-    for (std::size_t i = 0; i < item_xy.size(); ++i) items_[fill[cell_of[i]]++] = static_cast<uint32_t>(i);
+    for (std::size_t i = 0; i < item_xy.size(); ++i)
+        items_[fill[cell_of[i]]++] = static_cast<uint32_t>(i);
 }
 
 StaticWorld::StaticWorld(const WorldConfig &config, const Terrain &terrain,
@@ -216,7 +221,8 @@ StaticWorld::StaticWorld(const WorldConfig &config, const Terrain &terrain,
     std::vector<Eigen::Vector2d> route;
     for (std::size_t i = 0; i + 1 < route_xy.size(); ++i) {
         const int n = 1 + static_cast<int>((route_xy[i + 1] - route_xy[i]).norm());
-        for (int k = 0; k < n; ++k) route.push_back(route_xy[i] + (route_xy[i + 1] - route_xy[i]) * k / n);
+        for (int k = 0; k < n; ++k)
+            route.push_back(route_xy[i] + (route_xy[i + 1] - route_xy[i]) * k / n);
     }
     route.push_back(route_xy.back());
     Eigen::Vector2d lo = route.front(), hi = route.front();
@@ -240,7 +246,8 @@ StaticWorld::StaticWorld(const WorldConfig &config, const Terrain &terrain,
         const int cx = route_grid.CellX(route[i].x()), cy = route_grid.CellY(route[i].y());
         for (int y = std::max(0, cy - reach); y <= std::min(ny - 1, cy + reach); ++y) {
             for (int x = std::max(0, cx - reach); x <= std::min(nx - 1, cx + reach); ++x) {
-                if (std::hypot(x - cx, y - cy) <= reach) in_corridor[static_cast<std::size_t>(y * nx + x)] = 1;
+                if (std::hypot(x - cx, y - cy) <= reach)
+                    in_corridor[static_cast<std::size_t>(y * nx + x)] = 1;
             }
         }
     }

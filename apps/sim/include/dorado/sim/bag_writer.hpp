@@ -15,7 +15,7 @@
 namespace dorado::sim {
 
 class BagWriter {
-public:
+  public:
     /// Creates (overwrites) the bag; throws std::runtime_error naming the file.
     explicit BagWriter(const std::string &path);
     ~BagWriter();
@@ -32,7 +32,7 @@ public:
     /// Writes the index and closes; throws std::runtime_error on failure.
     void Close();
 
-private:
+  private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
     std::string path_;

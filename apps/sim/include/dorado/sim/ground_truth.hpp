@@ -12,13 +12,13 @@
 namespace dorado::sim {
 
 class MapperErrorModel {
-public:
+  public:
     MapperErrorModel(const GroundTruthConfig &config, uint64_t seed);
 
     /// The reported pose for the true T_world_base, dt_s after the previous call.
     [[nodiscard]] Eigen::Isometry3d Perturb(const Eigen::Isometry3d &T_world_base, double dt_s);
 
-private:
+  private:
     GroundTruthConfig config_;
     std::mt19937_64 rng_;
     Eigen::Vector3d position_error_m_ = Eigen::Vector3d::Zero();

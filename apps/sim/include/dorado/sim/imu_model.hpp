@@ -14,7 +14,7 @@
 namespace dorado::sim {
 
 class ImuModel {
-public:
+  public:
     ImuModel(const ImuConfig &config, uint64_t seed);
 
     /// The measurement at t [s since start], stamped stamp_ns. Call with increasing t: the biases
@@ -24,7 +24,7 @@ public:
     [[nodiscard]] const Eigen::Isometry3d &T_base_imu() const { return T_base_imu_; }
     [[nodiscard]] const Eigen::Vector3d &gyro_bias() const { return gyro_bias_; }
 
-private:
+  private:
     ImuConfig config_;
     Eigen::Isometry3d T_base_imu_;
     std::mt19937_64 rng_;

@@ -22,7 +22,7 @@ struct MovingReflector {
 };
 
 class MovingObjects {
-public:
+  public:
     /// Spawns the configured objects near the route at random times (seeded).
     MovingObjects(const DynamicConfig &config, const Terrain &terrain,
                   const VehicleTrajectory &vehicle, uint64_t seed);
@@ -33,7 +33,7 @@ public:
 
     [[nodiscard]] std::size_t size() const { return objects_.size(); }
 
-private:
+  private:
     struct LocalReflector {
         Eigen::Vector3d offset_m;  ///< in the object's frame (X along its heading, Z up)
         double rcs_dbsm;

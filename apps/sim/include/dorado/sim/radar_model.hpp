@@ -32,7 +32,7 @@ struct SimulatedScan {
 };
 
 class RadarModel {
-public:
+  public:
     RadarModel(const RadarConfig &config, const Terrain &terrain, const StaticWorld &world,
                const MovingObjects &moving);
 
@@ -42,7 +42,7 @@ public:
                                         const Eigen::Vector3d &v_world_radar,
                                         std::mt19937_64 &rng) const;
 
-private:
+  private:
     const RadarConfig config_;
     const Terrain &terrain_;
     const StaticWorld &world_;
@@ -51,6 +51,8 @@ private:
 };
 
 /// The Hugin reports azimuth from its Y axis: 90 deg is straight ahead (+X).
-[[nodiscard]] inline double HuginAzimuth(double x, double y) { return std::atan2(x, y); }
+[[nodiscard]] inline double HuginAzimuth(double x, double y) {
+    return std::atan2(x, y);
+}
 
 }  // namespace dorado::sim

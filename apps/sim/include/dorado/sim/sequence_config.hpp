@@ -14,7 +14,7 @@ namespace dorado::sim {
 
 /// A bad sequence description: the message names the file and the key.
 class SequenceConfigError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
@@ -43,15 +43,15 @@ struct VehicleConfig {
 /// Speed and yaw-rate profile: piecewise-constant targets of random length, smoothed by the
 /// vehicle's response time; optional stops.
 struct MotionConfig {
-    double speed_mps = 1.0;            ///< mean forward speed
-    double speed_sigma_mps = 0.3;      ///< spread of the segment speeds
-    double max_speed_mps = 2.0;        ///< speeds are clipped to [0, max]
+    double speed_mps = 1.0;             ///< mean forward speed
+    double speed_sigma_mps = 0.3;       ///< spread of the segment speeds
+    double max_speed_mps = 2.0;         ///< speeds are clipped to [0, max]
     double yaw_rate_sigma_radps = 0.3;  ///< spread of the segment yaw rates
     double max_yaw_rate_radps = 0.8;
     double max_lateral_accel_mps2 = 3.0;  ///< limits yaw rate at speed (|v * omega| <= this)
     double segment_min_s = 3.0;
     double segment_max_s = 8.0;
-    double response_time_s = 0.6;  ///< first-order lag of speed and yaw rate towards the targets
+    double response_time_s = 0.6;   ///< first-order lag of speed and yaw rate towards the targets
     double stop_probability = 0.0;  ///< chance that a segment is a stop (speed 0)
     double reverse_probability = 0.0;  ///< chance that a segment drives backwards
     /// Stay within this distance of the start by steering back towards it [m] (0 = free).
@@ -60,10 +60,10 @@ struct MotionConfig {
 
 /// A smooth height field with hills, plus small-scale roughness that the wheels feel.
 struct TerrainConfig {
-    double hill_height_m = 1.0;         ///< amplitude of the large hills
-    double hill_wavelength_m = 40.0;    ///< their typical wavelength
-    double side_slope_height_m = 0.0;   ///< extra ridges across the path (make roll)
-    double roughness_m = 0.01;          ///< amplitude of the bumps under the wheels
+    double hill_height_m = 1.0;        ///< amplitude of the large hills
+    double hill_wavelength_m = 40.0;   ///< their typical wavelength
+    double side_slope_height_m = 0.0;  ///< extra ridges across the path (make roll)
+    double roughness_m = 0.01;         ///< amplitude of the bumps under the wheels
     double roughness_wavelength_m = 1.2;
 };
 
@@ -79,7 +79,7 @@ struct WorldConfig {
     /// Grass tufts, shrubs and debris: weak reflectors scattered everywhere [per m^2].
     double vegetation_per_m2 = 1.0;
     double corridor_half_width_m = 70.0;  ///< structure is placed this far from the route
-    double clearance_m = 2.0;  ///< nothing static within this distance of the route
+    double clearance_m = 2.0;             ///< nothing static within this distance of the route
 };
 
 /// Moving objects: counts over the whole sequence, spawned near the vehicle's route.
@@ -103,7 +103,8 @@ struct RadarConfig {
     double range_sigma_m = 0.08;
     double azimuth_sigma_deg = 0.5;
     double elevation_sigma_deg = 1.0;
-    double doppler_sigma_mps = 0.04;  ///< at high SNR; weak returns get more (see doppler_snr_ref_db)
+    double doppler_sigma_mps =
+        0.04;  ///< at high SNR; weak returns get more (see doppler_snr_ref_db)
     /// Doppler noise grows as sigma * sqrt(1 + 10^((ref - snr)/10)): at snr = ref it is x1.4.
     double doppler_snr_ref_db = 15.0;
     double detection_threshold_db = 12.0;  ///< SNR needed for a detection (after Swerling fading)
@@ -111,14 +112,14 @@ struct RadarConfig {
     double noise_floor_db = 25.0;          ///< power = SNR + noise floor (the power field's offset)
     double ground_returns_per_scan = 1500.0;  ///< ground patches tried per scan (near range)
     double ground_max_range_m = 30.0;
-    double ground_sigma0_db = -18.0;       ///< ground backscatter per m^2 at normal incidence
-    double clutter_per_scan = 60.0;        ///< random false detections with random Doppler
-    double ghost_probability = 0.03;       ///< angular-ambiguity ghost per strong detection
+    double ground_sigma0_db = -18.0;          ///< ground backscatter per m^2 at normal incidence
+    double clutter_per_scan = 60.0;           ///< random false detections with random Doppler
+    double ghost_probability = 0.03;          ///< angular-ambiguity ghost per strong detection
     double double_bounce_probability = 0.02;  ///< range x2 / Doppler x2 ghost per strong detection
     double ground_multipath_probability = 0.03;  ///< mirror image below the ground
-    double doppler_unambiguous_mps = 0.0;  ///< > 0: Doppler wraps into [-v, v) (aliasing)
-    double occlusion_leak = 0.08;          ///< chance a point behind an opaque object still shows
-    int max_points = 20000;                ///< the sensor's detection list limit
+    double doppler_unambiguous_mps = 0.0;        ///< > 0: Doppler wraps into [-v, v) (aliasing)
+    double occlusion_leak = 0.08;  ///< chance a point behind an opaque object still shows
+    int max_points = 20000;        ///< the sensor's detection list limit
     std::string frame_id = "hugin_raf_1";
 };
 
@@ -130,7 +131,7 @@ struct ImuConfig {
     double gyro_bias_walk = 2e-5;         ///< bias random walk [rad/s^2/sqrt(Hz)]
     double accel_noise_density = 6e-4;    ///< [m/s^2/sqrt(Hz)]
     double accel_bias_sigma_mps2 = 0.02;
-    double accel_bias_walk = 4e-4;        ///< [m/s^3/sqrt(Hz)]
+    double accel_bias_walk = 4e-4;  ///< [m/s^3/sqrt(Hz)]
     std::string frame_id = "imu_link";
 };
 

@@ -39,10 +39,10 @@ struct SimulationStats {
     double points_per_scan_mean = 0.0;
     std::size_t points_per_scan_min = 0;
     std::size_t points_per_scan_max = 0;
-    double dynamic_fraction = 0.0;  ///< points on moving objects / all points
+    double dynamic_fraction = 0.0;      ///< points on moving objects / all points
     double max_dynamic_fraction = 0.0;  ///< the worst scan
     double ground_fraction = 0.0;
-    double ghost_fraction = 0.0;    ///< multipath and ambiguity ghosts / all points
+    double ghost_fraction = 0.0;  ///< multipath and ambiguity ghosts / all points
     double clutter_fraction = 0.0;
     std::size_t imu_samples = 0;
     std::size_t ground_truth_poses = 0;
@@ -58,8 +58,8 @@ struct SimulationStats {
 };
 
 struct SimulationResult {
-    Trajectory ground_truth;  ///< base frame, at the lidar's rate, with the mapper's error
-    Trajectory true_trajectory;  ///< the exact base pose at the same stamps
+    Trajectory ground_truth;        ///< base frame, at the lidar's rate, with the mapper's error
+    Trajectory true_trajectory;     ///< the exact base pose at the same stamps
     std::vector<TrueTwist> twists;  ///< one per radar scan
     Extrinsics extrinsics;
     VehicleGeometry vehicle;

@@ -12,7 +12,7 @@
 namespace dorado::sim {
 
 class Terrain {
-public:
+  public:
     Terrain(const TerrainConfig &config, uint64_t seed);
 
     /// Height of the ground [m] at (x, y), including the small bumps.
@@ -22,7 +22,7 @@ public:
     /// Upward unit normal of the smooth surface.
     [[nodiscard]] Eigen::Vector3d Normal(double x, double y) const;
 
-private:
+  private:
     /// h = sum_k a_k sin(k_k . (x, y) + phase_k)
     struct Wave {
         Eigen::Vector2d wavevector;

@@ -20,7 +20,7 @@ struct BaseTwist {
 };
 
 class VehicleTrajectory {
-public:
+  public:
     /// Draws the speed / yaw-rate profile (seeded) and integrates it over [0, duration_s].
     VehicleTrajectory(const SequenceConfig &config, const Terrain &terrain);
 
@@ -29,12 +29,13 @@ public:
     /// Velocity of the base frame at t (central differences of Pose; error ~1e-7).
     [[nodiscard]] BaseTwist Twist(double t) const;
     /// Acceleration [m/s^2] in the world frame of the point p_base fixed on the vehicle.
-    [[nodiscard]] Eigen::Vector3d PointAccelerationWorld(double t, const Eigen::Vector3d &p_base) const;
+    [[nodiscard]] Eigen::Vector3d PointAccelerationWorld(double t,
+                                                         const Eigen::Vector3d &p_base) const;
     /// Planar positions of the rear-axle centre every ~0.5 s (to place the world around).
     [[nodiscard]] std::vector<Eigen::Vector2d> RouteSamples() const;
     [[nodiscard]] double duration_s() const { return duration_s_; }
 
-private:
+  private:
     /// Planar state of the rear-axle centre at one knot, with its time derivative.
     struct Knot {
         Eigen::Vector3d xy_yaw;       ///< x, y [m], heading [rad]

@@ -36,7 +36,7 @@ struct Occluder {
 
 /// Items binned in square cells of the XY plane (compressed rows: cell -> item indices).
 class CellGrid {
-public:
+  public:
     CellGrid() = default;
     CellGrid(const Eigen::Vector2d &origin, double cell_m, int nx, int ny);
     void Build(const std::vector<Eigen::Vector2d> &item_xy);
@@ -55,10 +55,14 @@ public:
             }
         }
     }
-    [[nodiscard]] int CellX(double x) const { return static_cast<int>(std::floor((x - origin_.x()) / cell_m_)); }
-    [[nodiscard]] int CellY(double y) const { return static_cast<int>(std::floor((y - origin_.y()) / cell_m_)); }
+    [[nodiscard]] int CellX(double x) const {
+        return static_cast<int>(std::floor((x - origin_.x()) / cell_m_));
+    }
+    [[nodiscard]] int CellY(double y) const {
+        return static_cast<int>(std::floor((y - origin_.y()) / cell_m_));
+    }
 
-private:
+  private:
     Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
     double cell_m_ = 1.0;
     int nx_ = 0, ny_ = 0;
@@ -67,7 +71,7 @@ private:
 };
 
 class StaticWorld {
-public:
+  public:
     /// Places structure at the configured densities in a corridor around the route (seeded).
     StaticWorld(const WorldConfig &config, const Terrain &terrain,
                 const std::vector<Eigen::Vector2d> &route_xy, uint64_t seed);
@@ -79,7 +83,7 @@ public:
     /// Largest half diagonal of an occluder (to widen grid queries) [m].
     [[nodiscard]] double max_occluder_radius_m() const { return max_occluder_radius_m_; }
 
-private:
+  private:
     std::vector<Reflector> reflectors_;
     std::vector<Occluder> occluders_;
     CellGrid reflector_grid_;
