@@ -9,5 +9,6 @@ namespace dorado::apps {
 void RegisterInfoCommand(CLI::App &app);
 void RegisterOdometryCommand(CLI::App &app);
 void RegisterCalibrateCommand(CLI::App &app);
+void RegisterSimulateCommand(CLI::App &app);
 
 }  // namespace dorado::apps

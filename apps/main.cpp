@@ -15,6 +15,7 @@ int main(int argc, char **argv) {
     dorado::apps::RegisterInfoCommand(app);
     dorado::apps::RegisterOdometryCommand(app);
     dorado::apps::RegisterCalibrateCommand(app);
+    dorado::apps::RegisterSimulateCommand(app);
 
     try {
         app.parse(argc, argv);
