@@ -6,5 +6,8 @@
 
 namespace dorado::apps {
 
+void RegisterInfoCommand(CLI::App &app);
+void RegisterEvalCommand(CLI::App &app);
+void RegisterBenchCommand(CLI::App &app);
 
 }  // namespace dorado::apps

@@ -6,8 +6,10 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "dorado/core/imu.hpp"
 #include "dorado/core/radar_scan.hpp"
@@ -46,5 +48,27 @@ public:
 
 /// Opens the reader the config asks for. Throws DatasetError.
 [[nodiscard]] std::unique_ptr<DatasetReader> OpenDataset(const DatasetConfig &config);
+
+}  // namespace dorado::io
+
+namespace dorado::io {
+
+/// What one topic (or, for a folder, the scan files) holds.
+struct TopicSummary {
+    std::string topic;
+    std::string type;
+    std::size_t messages = 0;
+    int64_t first_ns = 0;  ///< record time of the first message
+    int64_t last_ns = 0;
+    std::string fields;  ///< point fields of the first message (point clouds only)
+};
+
+/// Every topic in the config's bag (or the scan folder as one topic), from the index only.
+/// Throws DatasetError.
+[[nodiscard]] std::vector<TopicSummary> ListTopics(const DatasetConfig &config);
+
+/// The ground truth the config names: its trajectory file, else its ground-truth topic in the bag.
+/// Empty when the dataset has none. Throws TrajectoryFileError / DatasetError naming the file.
+[[nodiscard]] std::optional<Trajectory> LoadGroundTruth(const DatasetConfig &config);
 
 }  // namespace dorado::io
