@@ -185,6 +185,8 @@ std::vector<RunEvaluation> EvaluateRuns(const std::vector<BenchRun> &runs,
         e.sequence = run.sequence;
         e.method = run.method;
         e.kind = run.kind;
+        e.run_dir = run.job.out_dir;
+        e.ground_truth = run.ground_truth;
         e.has_translation = run.method != "odom_imu";
         associated.emplace_back();
         const bool finished = outcomes[r].status == JobStatus::kSucceeded ||
@@ -276,6 +278,17 @@ void WriteReport(const std::vector<RunEvaluation> &evaluations, const BenchConfi
                 if (it != pooled[method].end())
                     WriteStatisticsRow(os, "all", method, metric, it->second);
             }
+        }
+    });
+    io::WriteFileAtomically((out / "bench_runs.csv").string(), [&](std::ostream &os) {
+        os << "sequence,method,run_dir,ground_truth,ok,poses,matched,scored,note\n";
+        for (const RunEvaluation &e : evaluations) {
+            std::string note = e.note;
+            std::replace(note.begin(), note.end(), ',', ';');
+            std::replace(note.begin(), note.end(), '\n', ' ');
+            os << e.sequence << ',' << e.method << ',' << e.run_dir << ',' << e.ground_truth << ','
+               << (e.ok ? 1 : 0) << ',' << e.poses << ',' << e.matched << ',' << e.scored << ','
+               << note << '\n';
         }
     });
     io::WriteFileAtomically((out / "rpe_pairs.csv").string(), [&](std::ostream &os) {

@@ -2,6 +2,7 @@
 /// @file bench_report.hpp
 /// Scores the finished runs of a benchmark against their ground truth and writes the report:
 /// results.csv (statistics per sequence, method and metric, and over all sequences),
+/// bench_runs.csv (each run: directory, ground truth, status, poses),
 /// rpe_pairs.csv (every RPE pair, for the box plots) and results.md (tables).
 
 #include <string>
@@ -18,6 +19,8 @@ struct RunEvaluation {
     std::string sequence;
     std::string method;
     RunKind kind = RunKind::kOdometry;
+    std::string run_dir;
+    std::string ground_truth;
     bool ok = false;
     std::string note;             ///< why it was not scored, or what limits its score
     bool has_translation = true;  ///< false for gyro-only odometry (rotation RPE only)
@@ -37,7 +40,7 @@ struct RunEvaluation {
                                                       const std::vector<JobOutcome> &outcomes,
                                                       const BenchConfig &config);
 
-/// Writes results.csv, rpe_pairs.csv and results.md into out_dir, each atomically.
+/// Writes results.csv, rpe_pairs.csv, bench_runs.csv and results.md into out_dir, each atomically.
 void WriteReport(const std::vector<RunEvaluation> &evaluations, const BenchConfig &config,
                  const std::string &out_dir);
 
