@@ -106,7 +106,7 @@ void RunBench(const BenchOptions &o) {
     if (!o.no_plot) {
         plot_error = Plot(out_dir);
         if (plot_error.empty())
-            std::fprintf(stderr, "bench: figures in %s/figures/\n", out_dir.c_str());
+            std::fprintf(stderr, "bench: figures in %s/plots/\n", out_dir.c_str());
     }
     std::size_t failed = 0;
     for (const JobOutcome &outcome : outcomes) failed += outcome.status == JobStatus::kFailed;

@@ -15,7 +15,7 @@ namespace {
 
 /// Problems of one kind: counted, the first few kept as examples.
 class ProblemLog {
-public:
+  public:
     void Add(const std::string &kind, const std::string &example) {
         auto &entry = problems_[kind];
         if (entry.count++ < kExamples) entry.examples.push_back(example);
@@ -29,11 +29,12 @@ public:
         for (const auto &[kind, entry] : problems_) {
             std::printf("  %s: %zu\n", kind.c_str(), entry.count);
             for (const auto &e : entry.examples) std::printf("    - %s\n", e.c_str());
-            if (entry.count > entry.examples.size()) std::printf("    - ... and %zu more\n", entry.count - entry.examples.size());
+            if (entry.count > entry.examples.size())
+                std::printf("    - ... and %zu more\n", entry.count - entry.examples.size());
         }
     }
 
-private:
+  private:
     static constexpr std::size_t kExamples = 5;
     struct Entry {
         std::size_t count = 0;
@@ -52,13 +53,14 @@ void PrintTopics(const std::vector<io::TopicSummary> &topics, const io::DatasetC
     std::printf("topics:\n");
     for (const auto &t : topics) {
         const double span_s = NanosToSeconds(t.last_ns - t.first_ns);
-        const double rate = span_s > 0 && t.messages > 1 ? static_cast<double>(t.messages - 1) / span_s : 0.0;
+        const double rate =
+            span_s > 0 && t.messages > 1 ? static_cast<double>(t.messages - 1) / span_s : 0.0;
         std::string role;
         if (t.topic == config.rosbag.radar_topic) role = "  <- radar";
         if (t.topic == config.rosbag.imu_topic) role = "  <- imu";
         if (t.topic == config.rosbag.ground_truth_topic) role = "  <- ground truth";
-        std::printf("  %-32s %-28s %7zu msgs %8.2f s %7.2f Hz%s\n", t.topic.c_str(), t.type.c_str(), t.messages,
-                    span_s, rate, role.c_str());
+        std::printf("  %-32s %-28s %7zu msgs %8.2f s %7.2f Hz%s\n", t.topic.c_str(), t.type.c_str(),
+                    t.messages, span_s, rate, role.c_str());
         if (!t.fields.empty()) std::printf("      fields: %s\n", t.fields.c_str());
     }
 }
@@ -90,14 +92,20 @@ int RunInfo(const std::string &dataset_arg) {
                 problems.Add("unreadable scans", event.problem);
                 break;
             case io::DatasetEvent::Kind::kImu:
-                if (event.stamp_ns <= last_imu_ns) problems.Add("IMU time not increasing", "at " + std::to_string(NanosToSeconds(event.stamp_ns)) + " s");
+                if (event.stamp_ns <= last_imu_ns)
+                    problems.Add("IMU time not increasing",
+                                 "at " + std::to_string(NanosToSeconds(event.stamp_ns)) + " s");
                 last_imu_ns = event.stamp_ns;
-                if (!event.imu.omega_imu_radps.allFinite() || !event.imu.accel_imu_mps2.allFinite()) {
-                    problems.Add("IMU samples with NaN/Inf", "at " + std::to_string(NanosToSeconds(event.stamp_ns)) + " s");
+                if (!event.imu.omega_imu_radps.allFinite() ||
+                    !event.imu.accel_imu_mps2.allFinite()) {
+                    problems.Add("IMU samples with NaN/Inf",
+                                 "at " + std::to_string(NanosToSeconds(event.stamp_ns)) + " s");
                 }
                 ++imu;
                 break;
-            case io::DatasetEvent::Kind::kGroundTruth: ++gt; break;
+            case io::DatasetEvent::Kind::kGroundTruth:
+                ++gt;
+                break;
             case io::DatasetEvent::Kind::kRadarScan: {
                 const std::string where = "scan " + std::to_string(event.scan_index);
                 if (scans == 0) {
@@ -106,7 +114,8 @@ int RunInfo(const std::string &dataset_arg) {
                     const double dt_ms = NanosToSeconds(event.stamp_ns - last_ns) * 1e3;
                     if (dt_ms <= 0.0) {
                         char text[96];
-                        std::snprintf(text, sizeof(text), "%s: %.1f ms after the previous scan", where.c_str(), dt_ms);
+                        std::snprintf(text, sizeof(text), "%s: %.1f ms after the previous scan",
+                                      where.c_str(), dt_ms);
                         problems.Add("radar time not increasing", text);
                     } else {
                         intervals_ms.push_back(dt_ms);
@@ -114,11 +123,13 @@ int RunInfo(const std::string &dataset_arg) {
                 }
                 last_ns = std::max(last_ns, event.stamp_ns);
                 if (event.removed_nonfinite_points > 0) {
-                    problems.Add("scans with NaN/Inf points (removed)",
-                                 where + ": " + std::to_string(event.removed_nonfinite_points) + " points");
+                    problems.Add(
+                        "scans with NaN/Inf points (removed)",
+                        where + ": " + std::to_string(event.removed_nonfinite_points) + " points");
                 }
                 if (event.scan.empty()) problems.Add("empty scans", where);
-                if (!event.scan.has_power) problems.Add("scans without a power field (unit weights)", where);
+                if (!event.scan.has_power)
+                    problems.Add("scans without a power field (unit weights)", where);
                 if (!event.scan.empty()) {
                     min_doppler = std::min(min_doppler, event.scan.doppler_mps.minCoeff());
                     max_doppler = std::max(max_doppler, event.scan.doppler_mps.maxCoeff());
@@ -136,9 +147,12 @@ int RunInfo(const std::string &dataset_arg) {
     if (scans > 0) {
         const double span_s = NanosToSeconds(last_ns - first_ns);
         const double median_ms = Median(intervals_ms);
-        const double max_ms = intervals_ms.empty() ? 0.0 : *std::max_element(intervals_ms.begin(), intervals_ms.end());
-        std::printf("  time span: %.3f s, scan rate %.2f Hz (median interval %.1f ms, max %.1f ms)\n", span_s,
-                    median_ms > 0 ? 1e3 / median_ms : 0.0, median_ms, max_ms);
+        const double max_ms = intervals_ms.empty()
+                                  ? 0.0
+                                  : *std::max_element(intervals_ms.begin(), intervals_ms.end());
+        std::printf(
+            "  time span: %.3f s, scan rate %.2f Hz (median interval %.1f ms, max %.1f ms)\n",
+            span_s, median_ms > 0 ? 1e3 / median_ms : 0.0, median_ms, max_ms);
         std::printf("  points per scan: min %.0f / median %.0f / max %.0f\n",
                     *std::min_element(points.begin(), points.end()), Median(points),
                     *std::max_element(points.begin(), points.end()));
@@ -147,7 +161,8 @@ int RunInfo(const std::string &dataset_arg) {
             for (std::size_t i = 0; i < intervals_ms.size(); ++i) {
                 if (intervals_ms[i] > 5.0 * median_ms) {
                     char text[96];
-                    std::snprintf(text, sizeof(text), "%.2f s without a scan", intervals_ms[i] * 1e-3);
+                    std::snprintf(text, sizeof(text), "%.2f s without a scan",
+                                  intervals_ms[i] * 1e-3);
                     problems.Add("gaps longer than 5 scan intervals", text);
                 }
             }
@@ -162,9 +177,12 @@ int RunInfo(const std::string &dataset_arg) {
 }  // namespace
 
 void RegisterInfoCommand(CLI::App &app) {
-    auto *cmd = app.add_subcommand("info", "Print what a dataset holds: topics, scan rate, points per scan, fields, problems");
+    auto *cmd = app.add_subcommand(
+        "info", "Print what a dataset holds: topics, scan rate, points per scan, fields, problems");
     auto dataset = std::make_shared<std::string>();
-    cmd->add_option("DATASET", *dataset, "dataset description (.yaml), a .bag, or a folder with dataset.yaml")->required();
+    cmd->add_option("DATASET", *dataset,
+                    "dataset description (.yaml), a .bag, or a folder with dataset.yaml")
+        ->required();
     cmd->callback([dataset]() {
         const int code = RunInfo(*dataset);
         if (code != 0) throw CLI::RuntimeError(code);

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Paper-style figures of a `dorado bench` output directory (Figs. 4-7 of the Doppler odometry paper,
-and the mapper's runtime per stage), as PNG and PDF in OUT/figures/.
+and the mapper's runtime per stage), as PNG and PDF in OUT/plots/.
 
 Usage: /usr/bin/python3 scripts/plot_benchmark.py OUT
 
@@ -34,9 +34,9 @@ def note(message):
 
 
 def save(fig, out_dir, name):
-    os.makedirs(os.path.join(out_dir, "figures"), exist_ok=True)
+    os.makedirs(os.path.join(out_dir, "plots"), exist_ok=True)
     for ext in ("png", "pdf"):
-        fig.savefig(os.path.join(out_dir, "figures", name + "." + ext), dpi=150, bbox_inches="tight")
+        fig.savefig(os.path.join(out_dir, "plots", name + "." + ext), dpi=150, bbox_inches="tight")
     plt.close(fig)
 
 

@@ -144,8 +144,8 @@ TEST_F(BenchReport, MethodsAreScoredOnCommonStampsAgainstClosedForm) {
     ASSERT_EQ(std::system(plot.c_str()), 0);
     for (const char *name : {"fig4_angular_velocity", "fig5_rpe_per_frame", "fig6_rpe_per_second",
                              "fig7_trajectories", "runtime_per_stage"}) {
-        EXPECT_TRUE(fs::exists(out_ / "figures" / (std::string(name) + ".png"))) << name;
-        EXPECT_TRUE(fs::exists(out_ / "figures" / (std::string(name) + ".pdf"))) << name;
+        EXPECT_TRUE(fs::exists(out_ / "plots" / (std::string(name) + ".png"))) << name;
+        EXPECT_TRUE(fs::exists(out_ / "plots" / (std::string(name) + ".pdf"))) << name;
     }
 }
 

@@ -25,8 +25,8 @@ void WriteFileAtomically(const std::string &path,
     std::filesystem::rename(tmp, path, ec);
     if (ec) {
         std::remove(tmp.c_str());
-        throw std::runtime_error(path + ": cannot rename the finished file into place: " +
-                                 ec.message());
+        throw std::runtime_error(path +
+                                 ": cannot rename the finished file into place: " + ec.message());
     }
 }
 

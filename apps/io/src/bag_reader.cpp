@@ -16,7 +16,9 @@ namespace dorado::io {
 
 namespace {
 
-int64_t ToNanos(const ros::Time &t) { return static_cast<int64_t>(t.toNSec()); }
+int64_t ToNanos(const ros::Time &t) {
+    return static_cast<int64_t>(t.toNSec());
+}
 
 /// The header stamp when the driver set one, else the time the message was recorded.
 int64_t StampOf(const std_msgs::Header &header, const rosbag::MessageInstance &m) {
@@ -39,7 +41,8 @@ RadarScan DecodeCloud2(const sensor_msgs::PointCloud2 &msg, const FieldMap &map)
 /// sensor_msgs/PointCloud (e.g. NTU4DRadLM): xyz in points, everything else in named channels.
 RadarScan DecodeCloud1(const sensor_msgs::PointCloud &msg, const FieldMap &map) {
     const std::size_t n = msg.points.size();
-    auto channel = [&](const std::string &name, bool required, const char *role) -> const std::vector<float> * {
+    auto channel = [&](const std::string &name, bool required,
+                       const char *role) -> const std::vector<float> * {
         if (name.empty()) {
             if (required) throw DecodeError(std::string("the field map gives no name for ") + role);
             return nullptr;
@@ -72,30 +75,41 @@ RadarScan DecodeCloud1(const sensor_msgs::PointCloud &msg, const FieldMap &map) 
     return scan;
 }
 
+/// Opens for reading; a bag without a readable index (a recording cut off, a copy interrupted) gets
+/// a message saying how to rebuild the index.
+void OpenBag(rosbag::Bag &bag, const std::string &path) {
+    const std::string repair =
+        "; if the recording was cut off, `rosbag reindex " + path +
+        "` (Debian's python3-rosbag) rebuilds its index from the chunks that survive";
+    try {
+        bag.open(path, rosbag::bagmode::Read);
+    } catch (const rosbag::BagUnindexedException &) {
+        throw DatasetError(path + ": the bag has no index" + repair);
+    } catch (const rosbag::BagException &e) {
+        throw DatasetError(
+            path + ": cannot open as a ROS1 bag (truncated or corrupt?): " + e.what() + repair);
+    }
+}
+
 StampedPose PoseOf(const geometry_msgs::Pose &pose, int64_t stamp_ns) {
     StampedPose out;
     out.stamp_ns = stamp_ns;
     const auto &q = pose.orientation;
-    out.T_world_body.linear() = Eigen::Quaterniond(q.w, q.x, q.y, q.z).normalized().toRotationMatrix();
+    out.T_world_body.linear() =
+        Eigen::Quaterniond(q.w, q.x, q.y, q.z).normalized().toRotationMatrix();
     out.T_world_body.translation() << pose.position.x, pose.position.y, pose.position.z;
     return out;
 }
 
 class BagReader final : public DatasetReader {
-public:
+  public:
     explicit BagReader(const DatasetConfig &config) : config_(config) {
         const std::string &path = config.rosbag.path;
-        try {
-            bag_.open(path, rosbag::bagmode::Read);
-        } catch (const rosbag::BagUnindexedException &) {
-            throw DatasetError(path + ": the bag has no index (recording cut off?); repair it with "
-                                      "`rosbag reindex " + path + "` and try again");
-        } catch (const rosbag::BagException &e) {
-            throw DatasetError(path + ": cannot open as a ROS1 bag: " + e.what());
-        }
+        OpenBag(bag_, path);
         std::vector<std::string> topics{config.rosbag.radar_topic};
         if (!config.rosbag.imu_topic.empty()) topics.push_back(config.rosbag.imu_topic);
-        if (!config.rosbag.ground_truth_topic.empty()) topics.push_back(config.rosbag.ground_truth_topic);
+        if (!config.rosbag.ground_truth_topic.empty())
+            topics.push_back(config.rosbag.ground_truth_topic);
         try {
             CheckTopicsExist(topics);
             view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(topics));
@@ -131,7 +145,7 @@ public:
 
     [[nodiscard]] std::string source() const override { return config_.rosbag.path; }
 
-private:
+  private:
     bool Finish() {
         finished_ = true;
         return false;
@@ -145,12 +159,15 @@ private:
             if (present.count(topic)) continue;
             std::string list;
             for (const auto &[t, type] : present) list += "\n  " + t + " [" + type + "]";
-            throw DatasetError(config_.rosbag.path + ": topic '" + topic + "' is not in the bag; topics:" +
-                               (list.empty() ? std::string(" (none)") : list));
+            throw DatasetError(
+                config_.rosbag.path + ": topic '" + topic +
+                "' is not in the bag; topics:" + (list.empty() ? std::string(" (none)") : list));
         }
-        ExpectType(present, config_.rosbag.radar_topic, {"sensor_msgs/PointCloud2", "sensor_msgs/PointCloud"});
+        ExpectType(present, config_.rosbag.radar_topic,
+                   {"sensor_msgs/PointCloud2", "sensor_msgs/PointCloud"});
         ExpectType(present, config_.rosbag.imu_topic, {"sensor_msgs/Imu"});
-        ExpectType(present, config_.rosbag.ground_truth_topic, {"nav_msgs/Odometry", "geometry_msgs/PoseStamped"});
+        ExpectType(present, config_.rosbag.ground_truth_topic,
+                   {"nav_msgs/Odometry", "geometry_msgs/PoseStamped"});
     }
 
     void ExpectType(const std::map<std::string, std::string> &present, const std::string &topic,
@@ -162,7 +179,8 @@ private:
             if (a == type) return;
             list += (list.empty() ? "" : " or ") + a;
         }
-        throw DatasetError(config_.rosbag.path + ": topic " + topic + " has type " + type + ", expected " + list);
+        throw DatasetError(config_.rosbag.path + ": topic " + topic + " has type " + type +
+                           ", expected " + list);
     }
 
     void Convert(const rosbag::MessageInstance &m, DatasetEvent &event) {
@@ -177,7 +195,8 @@ private:
             event.kind = DatasetEvent::Kind::kImu;
             event.stamp_ns = StampOf(imu->header, m);
             event.imu.stamp_ns = event.stamp_ns;
-            event.imu.omega_imu_radps << imu->angular_velocity.x, imu->angular_velocity.y, imu->angular_velocity.z;
+            event.imu.omega_imu_radps << imu->angular_velocity.x, imu->angular_velocity.y,
+                imu->angular_velocity.z;
             event.imu.accel_imu_mps2 << imu->linear_acceleration.x, imu->linear_acceleration.y,
                 imu->linear_acceleration.z;
         } else {
@@ -194,7 +213,8 @@ private:
         }
     }
 
-    void ConvertRadar(const rosbag::MessageInstance &m, const std::string &type, DatasetEvent &event) {
+    void ConvertRadar(const rosbag::MessageInstance &m, const std::string &type,
+                      DatasetEvent &event) {
         event.stamp_ns = ToNanos(m.getTime());
         const std::string where = config_.rosbag.path + ": topic " + config_.rosbag.radar_topic +
                                   ", scan " + std::to_string(event.scan_index) + ": ";
@@ -237,14 +257,7 @@ private:
 
 std::vector<TopicSummary> ListBagTopics(const DatasetConfig &config) {
     rosbag::Bag bag;
-    try {
-        bag.open(config.rosbag.path, rosbag::bagmode::Read);
-    } catch (const rosbag::BagUnindexedException &) {
-        throw DatasetError(config.rosbag.path + ": the bag has no index (recording cut off?); repair it with "
-                                               "`rosbag reindex " + config.rosbag.path + "` and try again");
-    } catch (const rosbag::BagException &e) {
-        throw DatasetError(config.rosbag.path + ": cannot open as a ROS1 bag: " + e.what());
-    }
+    OpenBag(bag, config.rosbag.path);
     std::map<std::string, TopicSummary> topics;
     rosbag::View all(bag);
     for (const auto *c : all.getConnections()) {
@@ -258,12 +271,15 @@ std::vector<TopicSummary> ListBagTopics(const DatasetConfig &config) {
         if (summary.messages == 0) continue;
         summary.first_ns = ToNanos(view.getBeginTime());
         summary.last_ns = ToNanos(view.getEndTime());
-        if (summary.type != "sensor_msgs/PointCloud2" && summary.type != "sensor_msgs/PointCloud") continue;
+        if (summary.type != "sensor_msgs/PointCloud2" && summary.type != "sensor_msgs/PointCloud")
+            continue;
         try {
-            const auto &first = *view.begin();
+            const auto it = view.begin();  // the instance lives inside the iterator
+            const rosbag::MessageInstance &first = *it;
             if (const auto cloud2 = first.instantiate<sensor_msgs::PointCloud2>()) {
                 std::vector<PointFieldDesc> fields;
-                for (const auto &f : cloud2->fields) fields.push_back({f.name, f.offset, f.datatype, f.count});
+                for (const auto &f : cloud2->fields)
+                    fields.push_back({f.name, f.offset, f.datatype, f.count});
                 summary.fields = DescribeFields(fields);
             } else if (const auto cloud1 = first.instantiate<sensor_msgs::PointCloud>()) {
                 summary.fields = "x, y, z";

@@ -7,8 +7,10 @@ namespace dorado::io {
 
 std::unique_ptr<DatasetReader> OpenDataset(const DatasetConfig &config) {
     switch (config.reader) {
-        case ReaderKind::kRosbag: return OpenBagReader(config);
-        case ReaderKind::kFolder: return OpenFolderReader(config);
+        case ReaderKind::kRosbag:
+            return OpenBagReader(config);
+        case ReaderKind::kFolder:
+            return OpenFolderReader(config);
     }
     throw DatasetError(config.config_path + ": unknown reader");
 }
@@ -24,7 +26,8 @@ std::vector<TopicSummary> ListTopics(const DatasetConfig &config) {
         if (summary.messages++ == 0) summary.first_ns = event.stamp_ns;
         summary.last_ns = event.stamp_ns;
     }
-    for (const auto &c : config.folder.columns) summary.fields += (summary.fields.empty() ? "" : ", ") + c;
+    for (const auto &c : config.folder.columns)
+        summary.fields += (summary.fields.empty() ? "" : ", ") + c;
     return {summary};
 }
 
@@ -32,12 +35,16 @@ std::optional<Trajectory> LoadGroundTruth(const DatasetConfig &config) {
     const GroundTruthFile &gt = config.ground_truth;
     if (!gt.path.empty()) {
         switch (gt.format) {
-            case TrajectoryFormat::kTum: return ReadTum(gt.path);
-            case TrajectoryFormat::kKitti: return ReadKitti(gt.path, gt.kitti_times_path);
-            case TrajectoryFormat::kPaperCsv: return ReadPaperCsv(gt.path);
+            case TrajectoryFormat::kTum:
+                return ReadTum(gt.path);
+            case TrajectoryFormat::kKitti:
+                return ReadKitti(gt.path, gt.kitti_times_path);
+            case TrajectoryFormat::kPaperCsv:
+                return ReadPaperCsv(gt.path);
         }
     }
-    if (config.reader != ReaderKind::kRosbag || config.rosbag.ground_truth_topic.empty()) return std::nullopt;
+    if (config.reader != ReaderKind::kRosbag || config.rosbag.ground_truth_topic.empty())
+        return std::nullopt;
     // Ground truth recorded in the bag: read only that topic.
     DatasetConfig only_gt = config;
     only_gt.rosbag.imu_topic.clear();
@@ -51,7 +58,8 @@ std::optional<Trajectory> LoadGroundTruth(const DatasetConfig &config) {
     try {
         return Trajectory(std::move(poses));
     } catch (const std::invalid_argument &e) {
-        throw DatasetError(config.rosbag.path + ": ground truth topic " + config.rosbag.ground_truth_topic + ": " + e.what());
+        throw DatasetError(config.rosbag.path + ": ground truth topic " +
+                           config.rosbag.ground_truth_topic + ": " + e.what());
     }
 }
 

@@ -15,10 +15,13 @@ namespace {
 
 /// Reads one YAML mapping, remembering which keys were used so that misspelled keys are errors.
 class Section {
-public:
+  public:
     Section(const YAML::Node &node, std::string file, std::string prefix)
         : node_(node), file_(std::move(file)), prefix_(std::move(prefix)) {
-        if (node_ && !node_.IsMap()) Fail(prefix_.empty() ? "(top level)" : prefix_, "must be a mapping");
+        // Absent and empty ("key:") sections mean "all defaults".
+        present_ = node_.IsDefined() && !node_.IsNull();
+        if (present_ && !node_.IsMap())
+            Fail(prefix_.empty() ? "(top level)" : prefix_, "must be a mapping");
     }
 
     [[noreturn]] void Fail(const std::string &key, const std::string &what) const {
@@ -27,11 +30,13 @@ public:
 
     const std::string &Prefix() const { return prefix_; }
 
-    std::string Key(const std::string &key) const { return prefix_.empty() ? key : prefix_ + "." + key; }
+    std::string Key(const std::string &key) const {
+        return prefix_.empty() ? key : prefix_ + "." + key;
+    }
 
     bool Has(const std::string &key) {
         known_.insert(key);
-        return node_ && node_[key];
+        return present_ && node_[key].IsDefined() && !node_[key].IsNull();
     }
 
     template <typename T>
@@ -40,24 +45,27 @@ public:
         try {
             return node_[key].as<T>();
         } catch (const YAML::Exception &) {
-            Fail(Key(key), "has the wrong type (line " + std::to_string(node_[key].Mark().line + 1) + ")");
+            Fail(Key(key),
+                 "has the wrong type (line " + std::to_string(node_[key].Mark().line + 1) + ")");
         }
     }
 
     double GetPositive(const std::string &key, double fallback) {
         const double v = Get<double>(key, fallback);
-        if (!(std::isfinite(v) && v > 0.0)) Fail(Key(key), "must be a positive number, got " + std::to_string(v));
+        if (!(std::isfinite(v) && v > 0.0))
+            Fail(Key(key), "must be a positive number, got " + std::to_string(v));
         return v;
     }
 
     Section Child(const std::string &key) {
         known_.insert(key);
-        return Section(node_ ? node_[key] : YAML::Node(), file_, Key(key));
+        return Section(present_ ? node_[key] : YAML::Node(YAML::NodeType::Undefined), file_,
+                       Key(key));
     }
 
     /// Every key of the mapping must have been asked for.
     void RejectUnknownKeys() const {
-        if (!node_) return;
+        if (!present_) return;
         for (const auto &entry : node_) {
             const std::string key = entry.first.as<std::string>();
             if (known_.count(key)) continue;
@@ -69,7 +77,7 @@ public:
         }
     }
 
-private:
+  private:
     static std::size_t EditDistance(const std::string &a, const std::string &b) {
         std::vector<std::size_t> row(b.size() + 1);
         for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
@@ -92,6 +100,7 @@ private:
     }
 
     const YAML::Node node_;
+    bool present_ = false;
     std::string file_;
     std::string prefix_;
     std::set<std::string> known_;
@@ -110,7 +119,8 @@ Eigen::Isometry3d ReadTransform(Section section) {
     const bool has_rpy = section.Has("rotation_rpy_deg");
     const bool has_q = section.Has("quaternion_xyzw");
     if (has_rpy && has_q) {
-        section.Fail(section.Key("rotation_rpy_deg"), "give either rotation_rpy_deg or quaternion_xyzw, not both");
+        section.Fail(section.Key("rotation_rpy_deg"),
+                     "give either rotation_rpy_deg or quaternion_xyzw, not both");
     }
     if (has_rpy) {
         const auto rpy = section.Get<std::vector<double>>("rotation_rpy_deg", {});
@@ -126,7 +136,8 @@ Eigen::Isometry3d ReadTransform(Section section) {
         const auto q = section.Get<std::vector<double>>("quaternion_xyzw", {});
         if (q.size() != 4) section.Fail(section.Key("quaternion_xyzw"), "must have 4 values");
         const Eigen::Quaterniond quat(q[3], q[0], q[1], q[2]);
-        if (std::abs(quat.norm() - 1.0) > 1e-3) section.Fail(section.Key("quaternion_xyzw"), "must have norm 1");
+        if (std::abs(quat.norm() - 1.0) > 1e-3)
+            section.Fail(section.Key("quaternion_xyzw"), "must have norm 1");
         T.linear() = quat.normalized().toRotationMatrix();
     }
     if (!T.matrix().allFinite()) section.Fail(section.Prefix(), "is not finite");
@@ -153,7 +164,8 @@ FieldMap ReadFieldMap(Section section) {
         section.Fail(section.Key("doppler_sign"), "must be 1 or -1");
     }
     for (const auto *required : {&map.x, &map.y, &map.z, &map.doppler}) {
-        if (required->empty()) section.Fail(section.Prefix(), "x, y, z and doppler need a field name");
+        if (required->empty())
+            section.Fail(section.Prefix(), "x, y, z and doppler need a field name");
     }
     section.RejectUnknownKeys();
     return map;
@@ -169,9 +181,12 @@ TrajectoryFormat ParseFormat(Section &section, const std::string &key) {
 
 const char *FormatName(TrajectoryFormat format) {
     switch (format) {
-        case TrajectoryFormat::kTum: return "tum";
-        case TrajectoryFormat::kKitti: return "kitti";
-        case TrajectoryFormat::kPaperCsv: return "paper_csv";
+        case TrajectoryFormat::kTum:
+            return "tum";
+        case TrajectoryFormat::kKitti:
+            return "kitti";
+        case TrajectoryFormat::kPaperCsv:
+            return "paper_csv";
     }
     return "tum";
 }
@@ -216,12 +231,15 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
     Section folder = top.Child("folder");
     config.folder.scans_dir = ResolvePath(folder.Get<std::string>("scans_dir", ""), base_dir);
     config.folder.extension = folder.Get<std::string>("extension", config.folder.extension);
-    config.folder.timestamps_file = ResolvePath(folder.Get<std::string>("timestamps_file", ""), base_dir);
+    config.folder.timestamps_file =
+        ResolvePath(folder.Get<std::string>("timestamps_file", ""), base_dir);
     config.folder.columns = folder.Get<std::vector<std::string>>("columns", {});
     folder.RejectUnknownKeys();
     if (config.reader == ReaderKind::kFolder) {
-        if (config.folder.scans_dir.empty()) top.Fail("folder.scans_dir", "is required for reader: folder");
-        if (config.folder.timestamps_file.empty()) top.Fail("folder.timestamps_file", "is required for reader: folder");
+        if (config.folder.scans_dir.empty())
+            top.Fail("folder.scans_dir", "is required for reader: folder");
+        if (config.folder.timestamps_file.empty())
+            top.Fail("folder.timestamps_file", "is required for reader: folder");
         if (config.folder.extension != ".bin" && config.folder.extension != ".pcd") {
             top.Fail("folder.extension", "must be .bin or .pcd");
         }
@@ -235,10 +253,11 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
     Section gt = top.Child("ground_truth");
     config.ground_truth.path = ResolvePath(gt.Get<std::string>("path", ""), base_dir);
     config.ground_truth.format = ParseFormat(gt, "format");
-    config.ground_truth.kitti_times_path = ResolvePath(gt.Get<std::string>("kitti_times", ""), base_dir);
+    config.ground_truth.kitti_times_path =
+        ResolvePath(gt.Get<std::string>("kitti_times", ""), base_dir);
     gt.RejectUnknownKeys();
-    if (config.ground_truth.format == TrajectoryFormat::kKitti && !config.ground_truth.path.empty() &&
-        config.ground_truth.kitti_times_path.empty()) {
+    if (config.ground_truth.format == TrajectoryFormat::kKitti &&
+        !config.ground_truth.path.empty() && config.ground_truth.kitti_times_path.empty()) {
         top.Fail("ground_truth.kitti_times", "is required for format: kitti");
     }
 
@@ -248,7 +267,8 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
     extrinsics.RejectUnknownKeys();
 
     Section vehicle = top.Child("vehicle");
-    config.vehicle.half_wheelbase_m = vehicle.GetPositive("half_wheelbase_m", config.vehicle.half_wheelbase_m);
+    config.vehicle.half_wheelbase_m =
+        vehicle.GetPositive("half_wheelbase_m", config.vehicle.half_wheelbase_m);
     vehicle.RejectUnknownKeys();
 
     top.RejectUnknownKeys();
@@ -261,7 +281,9 @@ DatasetConfig ResolveDataset(const std::string &argument) {
     if (fs::is_directory(path, ec)) {
         const fs::path description = path / "dataset.yaml";
         if (fs::exists(description)) return LoadDatasetConfig(description.string());
-        throw ConfigError(argument + ": a folder without dataset.yaml; pass a dataset description (.yaml) or a .bag");
+        throw ConfigError(
+            argument +
+            ": a folder without dataset.yaml; pass a dataset description (.yaml) or a .bag");
     }
     if (!fs::exists(path, ec)) throw ConfigError(argument + ": no such file");
     const std::string ext = path.extension().string();
@@ -274,7 +296,9 @@ DatasetConfig ResolveDataset(const std::string &argument) {
         config.rosbag.path = argument;
         return config;
     }
-    throw ConfigError(argument + ": not a dataset (expected a .yaml description, a .bag, or a folder with dataset.yaml)");
+    throw ConfigError(
+        argument +
+        ": not a dataset (expected a .yaml description, a .bag, or a folder with dataset.yaml)");
 }
 
 namespace {
@@ -297,7 +321,8 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
     out.SetDoublePrecision(17);
     out << YAML::BeginMap;
     out << YAML::Key << "name" << YAML::Value << config.name;
-    out << YAML::Key << "reader" << YAML::Value << (config.reader == ReaderKind::kRosbag ? "rosbag" : "folder");
+    out << YAML::Key << "reader" << YAML::Value
+        << (config.reader == ReaderKind::kRosbag ? "rosbag" : "folder");
     if (config.reader == ReaderKind::kRosbag) {
         out << YAML::Key << "rosbag" << YAML::Value << YAML::BeginMap;
         out << YAML::Key << "path" << YAML::Value << config.rosbag.path;
@@ -315,9 +340,15 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
     }
     const FieldMap &f = config.fields;
     out << YAML::Key << "fields" << YAML::Value << YAML::BeginMap;
-    for (const auto &[key, value] : std::vector<std::pair<const char *, std::string>>{
-             {"x", f.x}, {"y", f.y}, {"z", f.z}, {"range", f.range}, {"azimuth", f.azimuth},
-             {"elevation", f.elevation}, {"power", f.power}, {"doppler", f.doppler}}) {
+    for (const auto &[key, value] :
+         std::vector<std::pair<const char *, std::string>>{{"x", f.x},
+                                                           {"y", f.y},
+                                                           {"z", f.z},
+                                                           {"range", f.range},
+                                                           {"azimuth", f.azimuth},
+                                                           {"elevation", f.elevation},
+                                                           {"power", f.power},
+                                                           {"doppler", f.doppler}}) {
         out << YAML::Key << key << YAML::Value << value;
     }
     out << YAML::Key << "doppler_sign" << YAML::Value << f.doppler_sign;
@@ -327,7 +358,8 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
         out << YAML::Key << "path" << YAML::Value << config.ground_truth.path;
         out << YAML::Key << "format" << YAML::Value << FormatName(config.ground_truth.format);
         if (!config.ground_truth.kitti_times_path.empty()) {
-            out << YAML::Key << "kitti_times" << YAML::Value << config.ground_truth.kitti_times_path;
+            out << YAML::Key << "kitti_times" << YAML::Value
+                << config.ground_truth.kitti_times_path;
         }
         out << YAML::EndMap;
     }

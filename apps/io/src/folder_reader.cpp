@@ -1,5 +1,5 @@
-// Folders of per-scan files: raw float32 columns (.bin, as View-of-Delft and ColoRadar) or PCD files,
-// with a timestamps file holding one time per scan.
+// Folders of per-scan files: raw float32 columns (.bin, as View-of-Delft and ColoRadar) or PCD
+// files, with a timestamps file holding one time per scan.
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/io/pcd_io.h>
 
@@ -26,7 +26,8 @@ std::vector<int64_t> ReadTimestamps(const std::string &path) {
         if (line.empty() || line[0] == '#') continue;
         int64_t ns = 0;
         if (!ParseSecondsToNanos(line, ns)) {
-            throw DatasetError(path + ":" + std::to_string(n) + ": not a time in seconds: '" + line + "'");
+            throw DatasetError(path + ":" + std::to_string(n) + ": not a time in seconds: '" +
+                               line + "'");
         }
         stamps.push_back(ns);
     }
@@ -35,7 +36,8 @@ std::vector<int64_t> ReadTimestamps(const std::string &path) {
 
 std::vector<std::string> ListScanFiles(const FolderSource &folder) {
     std::error_code ec;
-    if (!fs::is_directory(folder.scans_dir, ec)) throw DatasetError(folder.scans_dir + ": no such folder");
+    if (!fs::is_directory(folder.scans_dir, ec))
+        throw DatasetError(folder.scans_dir + ": no such folder");
     std::vector<std::string> files;
     for (const auto &entry : fs::directory_iterator(folder.scans_dir)) {
         if (entry.is_regular_file() && entry.path().extension() == folder.extension) {
@@ -43,17 +45,21 @@ std::vector<std::string> ListScanFiles(const FolderSource &folder) {
         }
     }
     std::sort(files.begin(), files.end());
-    if (files.empty()) throw DatasetError(folder.scans_dir + ": no *" + folder.extension + " files");
+    if (files.empty())
+        throw DatasetError(folder.scans_dir + ": no *" + folder.extension + " files");
     return files;
 }
 
 class FolderReader final : public DatasetReader {
-public:
+  public:
     explicit FolderReader(const DatasetConfig &config)
-        : config_(config), files_(ListScanFiles(config.folder)), stamps_(ReadTimestamps(config.folder.timestamps_file)) {
+        : config_(config),
+          files_(ListScanFiles(config.folder)),
+          stamps_(ReadTimestamps(config.folder.timestamps_file)) {
         if (files_.size() != stamps_.size()) {
-            throw DatasetError(config.folder.timestamps_file + ": " + std::to_string(stamps_.size()) +
-                               " timestamps for " + std::to_string(files_.size()) + " scan files in " +
+            throw DatasetError(config.folder.timestamps_file + ": " +
+                               std::to_string(stamps_.size()) + " timestamps for " +
+                               std::to_string(files_.size()) + " scan files in " +
                                config.folder.scans_dir);
         }
     }
@@ -80,16 +86,18 @@ public:
 
     [[nodiscard]] std::string source() const override { return config_.folder.scans_dir; }
 
-private:
+  private:
     RadarScan ReadBin(const std::string &file) const {
         const auto &columns = config_.folder.columns;
         std::ifstream in(file, std::ios::binary);
         if (!in) throw DecodeError("cannot open");
-        std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                   std::istreambuf_iterator<char>());
         const std::size_t point_step = 4 * columns.size();
         if (bytes.size() % point_step != 0) {
-            throw DecodeError("size " + std::to_string(bytes.size()) + " bytes is not a multiple of " +
-                              std::to_string(columns.size()) + " float32 columns");
+            throw DecodeError("size " + std::to_string(bytes.size()) +
+                              " bytes is not a multiple of " + std::to_string(columns.size()) +
+                              " float32 columns");
         }
         CloudBufferView view;
         view.width = static_cast<uint32_t>(bytes.size() / point_step);
@@ -98,7 +106,8 @@ private:
         view.data = bytes.data();
         view.data_size = bytes.size();
         for (std::size_t k = 0; k < columns.size(); ++k) {
-            if (columns[k] != "_") view.fields.push_back({columns[k], static_cast<uint32_t>(4 * k), 7, 1});
+            if (columns[k] != "_")
+                view.fields.push_back({columns[k], static_cast<uint32_t>(4 * k), 7, 1});
         }
         return DecodePointCloud(view, config_.fields);
     }
@@ -115,7 +124,8 @@ private:
         view.is_bigendian = cloud.is_bigendian != 0;
         view.data = cloud.data.data();
         view.data_size = cloud.data.size();
-        for (const auto &f : cloud.fields) view.fields.push_back({f.name, f.offset, f.datatype, f.count});
+        for (const auto &f : cloud.fields)
+            view.fields.push_back({f.name, f.offset, f.datatype, f.count});
         return DecodePointCloud(view, config_.fields);
     }
 

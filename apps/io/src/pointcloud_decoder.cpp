@@ -13,19 +13,23 @@ namespace {
 std::size_t TypeSize(uint8_t datatype) {
     switch (static_cast<FieldType>(datatype)) {
         case FieldType::kInt8:
-        case FieldType::kUint8: return 1;
+        case FieldType::kUint8:
+            return 1;
         case FieldType::kInt16:
-        case FieldType::kUint16: return 2;
+        case FieldType::kUint16:
+            return 2;
         case FieldType::kInt32:
         case FieldType::kUint32:
-        case FieldType::kFloat32: return 4;
-        case FieldType::kFloat64: return 8;
+        case FieldType::kFloat32:
+            return 4;
+        case FieldType::kFloat64:
+            return 8;
     }
     return 0;
 }
 
 const char *TypeName(uint8_t datatype) {
-    static const char *kNames[] = {"?",      "INT8",   "UINT8",   "INT16",  "UINT16",
+    static const char *kNames[] = {"?",     "INT8",   "UINT8",   "INT16",  "UINT16",
                                    "INT32", "UINT32", "FLOAT32", "FLOAT64"};
     return datatype <= 8 ? kNames[datatype] : "?";
 }
@@ -49,14 +53,22 @@ struct Accessor {
     [[nodiscard]] double Read(const uint8_t *point, bool swap) const {
         const uint8_t *p = point + offset;
         switch (static_cast<FieldType>(datatype)) {
-            case FieldType::kInt8: return Load<int8_t>(p, swap);
-            case FieldType::kUint8: return Load<uint8_t>(p, swap);
-            case FieldType::kInt16: return Load<int16_t>(p, swap);
-            case FieldType::kUint16: return Load<uint16_t>(p, swap);
-            case FieldType::kInt32: return Load<int32_t>(p, swap);
-            case FieldType::kUint32: return Load<uint32_t>(p, swap);
-            case FieldType::kFloat32: return Load<float>(p, swap);
-            case FieldType::kFloat64: return Load<double>(p, swap);
+            case FieldType::kInt8:
+                return Load<int8_t>(p, swap);
+            case FieldType::kUint8:
+                return Load<uint8_t>(p, swap);
+            case FieldType::kInt16:
+                return Load<int16_t>(p, swap);
+            case FieldType::kUint16:
+                return Load<uint16_t>(p, swap);
+            case FieldType::kInt32:
+                return Load<int32_t>(p, swap);
+            case FieldType::kUint32:
+                return Load<uint32_t>(p, swap);
+            case FieldType::kFloat32:
+                return Load<float>(p, swap);
+            case FieldType::kFloat64:
+                return Load<double>(p, swap);
         }
         return std::numeric_limits<double>::quiet_NaN();
     }
@@ -105,9 +117,9 @@ void CheckLayout(const CloudBufferView &cloud) {
                                static_cast<std::size_t>(cloud.width) * cloud.point_step;
     if (cloud.data == nullptr || cloud.data_size < needed) {
         throw DecodeError("data holds " + std::to_string(cloud.data_size) + " bytes but " +
-                          std::to_string(cloud.height) + " rows of " +
-                          std::to_string(cloud.width) + " points need " + std::to_string(needed) +
-                          " (point_step " + std::to_string(cloud.point_step) + ", row_step " +
+                          std::to_string(cloud.height) + " rows of " + std::to_string(cloud.width) +
+                          " points need " + std::to_string(needed) + " (point_step " +
+                          std::to_string(cloud.point_step) + ", row_step " +
                           std::to_string(cloud.row_step) + ")");
     }
 }

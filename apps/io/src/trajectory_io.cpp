@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -53,9 +54,13 @@ std::string FormatNanosAsSeconds(int64_t ns) {
     return buffer;
 }
 
+/// Nine decimals: sub-nanometre and 1e-9 rad, far below any sensor's accuracy, and coarse enough
+/// that the ~1e-16 noise of a quaternion -> matrix -> quaternion trip never changes the text, so a
+/// file read and written again is identical.
 std::string FormatDouble(double v) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof(buffer), "%.17g", v);
+    char buffer[40];
+    std::snprintf(buffer, sizeof(buffer), "%.9f", v);
+    if (std::strcmp(buffer, "-0.000000000") == 0) return "0.000000000";
     return buffer;
 }
 
@@ -100,7 +105,9 @@ Trajectory BuildTrajectory(const std::string &path, std::vector<StampedPose> pos
 }
 
 void WriteQuaternionPose(std::ostream &out, const Eigen::Isometry3d &T, char sep) {
-    const Eigen::Quaterniond q(T.linear());
+    Eigen::Quaterniond q(T.linear());
+    q.normalize();
+    if (q.w() < 0.0) q.coeffs() = -q.coeffs();  // one sign for one rotation: stable text
     const Eigen::Vector3d t = T.translation();
     out << FormatDouble(t.x()) << sep << FormatDouble(t.y()) << sep << FormatDouble(t.z()) << sep
         << FormatDouble(q.x()) << sep << FormatDouble(q.y()) << sep << FormatDouble(q.z()) << sep
@@ -146,21 +153,22 @@ bool ParseSecondsToNanos(const std::string &token, int64_t &ns) {
     return true;
 }
 
-
 Trajectory ReadTum(const std::string &path) {
     std::vector<StampedPose> poses;
     std::vector<std::size_t> numbers;
     for (const auto &[n, line] : DataLines(path)) {
         const auto tokens = Tokens(line);
         if (tokens.size() != 8) {
-            Fail(path, n, "expected 8 values 't x y z qx qy qz qw', found " +
-                              std::to_string(tokens.size()));
+            Fail(path, n,
+                 "expected 8 values 't x y z qx qy qz qw', found " + std::to_string(tokens.size()));
         }
         StampedPose pose;
-        if (!ParseSecondsToNanos(tokens[0], pose.stamp_ns)) Fail(path, n, "bad time '" + tokens[0] + "'");
+        if (!ParseSecondsToNanos(tokens[0], pose.stamp_ns))
+            Fail(path, n, "bad time '" + tokens[0] + "'");
         double v[7];
         for (int k = 0; k < 7; ++k) {
-            if (!ParseDouble(tokens[k + 1], v[k])) Fail(path, n, "bad number '" + tokens[k + 1] + "'");
+            if (!ParseDouble(tokens[k + 1], v[k]))
+                Fail(path, n, "bad number '" + tokens[k + 1] + "'");
         }
         pose.T_world_body = PoseFromTranslationQuaternion(path, n, v, v + 3);
         poses.push_back(pose);
@@ -193,14 +201,17 @@ Trajectory ReadKitti(const std::string &poses_path, const std::string &times_pat
         const auto &[n, line] = pose_lines[i];
         const auto tokens = Tokens(line);
         if (tokens.size() != 12) {
-            Fail(poses_path, n, "expected 12 values (3x4 row-major), found " + std::to_string(tokens.size()));
+            Fail(poses_path, n,
+                 "expected 12 values (3x4 row-major), found " + std::to_string(tokens.size()));
         }
         Eigen::Matrix<double, 3, 4> M;
         for (int k = 0; k < 12; ++k) {
-            if (!ParseDouble(tokens[k], M(k / 4, k % 4))) Fail(poses_path, n, "bad number '" + tokens[k] + "'");
+            if (!ParseDouble(tokens[k], M(k / 4, k % 4)))
+                Fail(poses_path, n, "bad number '" + tokens[k] + "'");
         }
         const Eigen::Matrix3d R = M.leftCols<3>();
-        if ((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() > 1e-3 || R.determinant() < 0) {
+        if ((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() > 1e-3 ||
+            R.determinant() < 0) {
             Fail(poses_path, n, "the 3x3 block is not a rotation matrix");
         }
         StampedPose pose;
@@ -222,11 +233,13 @@ void WriteKitti(const std::string &poses_path, const std::string &times_path,
     WriteFileAtomically(poses_path, [&](std::ostream &out) {
         for (const auto &pose : trajectory.poses()) {
             const Eigen::Matrix<double, 3, 4> M = pose.T_world_body.matrix().topRows<3>();
-            for (int k = 0; k < 12; ++k) out << FormatDouble(M(k / 4, k % 4)) << (k == 11 ? '\n' : ' ');
+            for (int k = 0; k < 12; ++k)
+                out << FormatDouble(M(k / 4, k % 4)) << (k == 11 ? '\n' : ' ');
         }
     });
     WriteFileAtomically(times_path, [&](std::ostream &out) {
-        for (const auto &pose : trajectory.poses()) out << FormatNanosAsSeconds(pose.stamp_ns) << "\n";
+        for (const auto &pose : trajectory.poses())
+            out << FormatNanosAsSeconds(pose.stamp_ns) << "\n";
     });
 }
 
@@ -241,8 +254,9 @@ Trajectory ReadPaperCsv(const std::string &path) {
             continue;
         }
         if (tokens.size() != 9) {
-            Fail(path, n, "expected 9 values 'sec,nsec,x,y,z,qx,qy,qz,qw', found " +
-                              std::to_string(tokens.size()));
+            Fail(path, n,
+                 "expected 9 values 'sec,nsec,x,y,z,qx,qy,qz,qw', found " +
+                     std::to_string(tokens.size()));
         }
         double v[9];
         for (int k = 0; k < 9; ++k) {

@@ -22,23 +22,24 @@ struct DatasetEvent {
     enum class Kind { kRadarScan, kImu, kGroundTruth, kBadScan };
     Kind kind = Kind::kRadarScan;
     int64_t stamp_ns = 0;
-    std::size_t scan_index = 0;  ///< index of the radar message in the dataset (for kRadarScan/kBadScan)
-    RadarScan scan;              ///< kRadarScan: finite points only
+    std::size_t scan_index =
+        0;           ///< index of the radar message in the dataset (for kRadarScan/kBadScan)
+    RadarScan scan;  ///< kRadarScan: finite points only
     Eigen::Index removed_nonfinite_points = 0;  ///< kRadarScan: points dropped for NaN/Inf values
-    ImuSample imu;               ///< kImu
-    StampedPose ground_truth;    ///< kGroundTruth: T_world_body of the ground-truth body
-    std::string problem;         ///< kBadScan: why the scan could not be read
+    ImuSample imu;                              ///< kImu
+    StampedPose ground_truth;  ///< kGroundTruth: T_world_body of the ground-truth body
+    std::string problem;       ///< kBadScan: why the scan could not be read
 };
 
 /// A fatal problem with the dataset (cannot open, unreadable index, missing topic): the message
 /// names the file and what is wrong.
 class DatasetError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
 class DatasetReader {
-public:
+  public:
     virtual ~DatasetReader() = default;
     /// Fills the next event; false at the end. Throws DatasetError on an unrecoverable problem.
     virtual bool Next(DatasetEvent &event) = 0;

@@ -14,7 +14,14 @@ namespace dorado::io {
 
 /// sensor_msgs/PointField datatype codes (identical in PCL's pcl::PCLPointField).
 enum class FieldType : uint8_t {
-    kInt8 = 1, kUint8 = 2, kInt16 = 3, kUint16 = 4, kInt32 = 5, kUint32 = 6, kFloat32 = 7, kFloat64 = 8
+    kInt8 = 1,
+    kUint8 = 2,
+    kInt16 = 3,
+    kUint16 = 4,
+    kInt32 = 5,
+    kUint32 = 6,
+    kFloat32 = 7,
+    kFloat64 = 8
 };
 
 struct PointFieldDesc {
@@ -55,7 +62,7 @@ struct FieldMap {
 
 /// Thrown when the layout cannot be decoded (a field missing, a size that lies).
 class DecodeError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
