@@ -10,5 +10,7 @@ void RegisterInfoCommand(CLI::App &app);
 void RegisterOdometryCommand(CLI::App &app);
 void RegisterCalibrateCommand(CLI::App &app);
 void RegisterSimulateCommand(CLI::App &app);
+void RegisterEvalCommand(CLI::App &app);
+void RegisterBenchCommand(CLI::App &app);
 
 }  // namespace dorado::apps

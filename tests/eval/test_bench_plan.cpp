@@ -1,0 +1,85 @@
+// The benchmark matrix from its YAML: jobs, their commands and dependencies, and config errors.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "bench_plan.hpp"
+
+namespace dorado::apps {
+namespace {
+
+const char *kConfig = R"(
+jobs: 2
+sequences:
+  - name: s1
+    simulate: {sequence: seq04, duration_s: 30, seed: 4}
+  - name: real
+    dataset: data/real.yaml
+    ground_truth: data/real_gt.tum
+odometry: [imu, doppler, imu+doppler]
+map_priors: [none, doppler]
+map_config: mapper.yaml
+)";
+
+TEST(BenchPlan, MatrixHasOneRunPerSequenceAndMethodAfterItsSimulation) {
+    const BenchConfig config = ParseBenchConfig(kConfig, "/cfg", "test.yaml");
+    EXPECT_EQ(config.jobs, 2u);
+    const auto runs = PlanBenchmark(config, "/out");
+    // s1: simulate + 3 odometry + 2 map; real: 3 + 2.
+    ASSERT_EQ(runs.size(), 11u);
+    EXPECT_EQ(runs[0].kind, RunKind::kSimulate);
+    EXPECT_EQ(runs[0].job.out_dir, "/out/data/s1");
+    EXPECT_EQ(runs[0].job.marker, "simulation.json");
+    const std::vector<std::string> sim_args{
+        "simulate", "--sequence", "seq04", "--out", "{out}", "--seed", "4", "--duration", "30"};
+    EXPECT_EQ(runs[0].job.args, sim_args);
+    for (std::size_t r = 1; r <= 5; ++r) {
+        EXPECT_EQ(runs[r].job.depends_on, std::vector<std::size_t>{0}) << runs[r].job.name;
+        EXPECT_EQ(runs[r].dataset, "/out/data/s1/dataset.yaml");
+        EXPECT_EQ(runs[r].ground_truth, "/out/data/s1/ground_truth.tum");
+        EXPECT_EQ(runs[r].job.marker, "summary.json");
+    }
+    // The paper's "IMU" odometry is gyro-only rotation; "IMU + Doppler" is --rotation imu.
+    EXPECT_EQ(runs[1].method, "odom_imu");
+    EXPECT_NE(std::find(runs[1].job.args.begin(), runs[1].job.args.end(), "imu-only"),
+              runs[1].job.args.end());
+    EXPECT_EQ(runs[3].method, "odom_imu+doppler");
+    EXPECT_EQ(runs[3].job.args.back(), "imu");
+    const std::vector<std::string> map_args{
+        "map",      "/out/data/s1/dataset.yaml", "--prior", "doppler", "--out", "{out}",
+        "--config", "/cfg/mapper.yaml"};
+    EXPECT_EQ(runs[5].job.args, map_args);
+    EXPECT_EQ(runs[5].job.out_dir, "/out/runs/s1/map_doppler");
+    // Existing data: paths relative to the config file, no dependency.
+    EXPECT_EQ(runs[6].dataset, "/cfg/data/real.yaml");
+    EXPECT_EQ(runs[6].ground_truth, "/cfg/data/real_gt.tum");
+    EXPECT_TRUE(runs[6].job.depends_on.empty());
+}
+
+TEST(BenchPlan, ErrorsNameTheKey) {
+    const auto error_of = [](const std::string &yaml) {
+        try {
+            (void)ParseBenchConfig(yaml, "/cfg", "bad.yaml");
+        } catch (const std::runtime_error &e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_NE(error_of("jobs: 1").find("bad.yaml: sequences"), std::string::npos);
+    EXPECT_NE(error_of("sequences: [{name: a, simulate: {}}]\nmap_priors: [lidar]")
+                  .find("map_priors: unknown method 'lidar'"),
+              std::string::npos);
+    EXPECT_NE(error_of("sequences: [{name: a}]").find("sequences[0].dataset"), std::string::npos);
+    EXPECT_NE(error_of("sequences: [{name: a, simulate: {duration_s: -3}}]")
+                  .find("sequences[0].simulate.duration_s"),
+              std::string::npos);
+    EXPECT_NE(error_of("sequences: [{name: a, simulate: {}}, {name: a, simulate: {}}]")
+                  .find("sequences[1].name: repeats"),
+              std::string::npos);
+    EXPECT_NE(error_of("sequences: [{name: a, simulate: {}}]\njobs: many").find("jobs"),
+              std::string::npos);
+}
+
+}  // namespace
+}  // namespace dorado::apps
