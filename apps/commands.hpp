@@ -6,5 +6,6 @@
 
 namespace dorado::apps {
 
+void RegisterInfoCommand(CLI::App &app);
 
 }  // namespace dorado::apps

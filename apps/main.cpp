@@ -12,7 +12,7 @@ int main(int argc, char **argv) {
     app.require_subcommand(1);
     app.set_version_flag("--version", "dorado 0.1.0");
 
-    // Subcommands register here.
+    dorado::apps::RegisterInfoCommand(app);
 
     try {
         app.parse(argc, argv);

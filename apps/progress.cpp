@@ -13,7 +13,9 @@ Progress::Progress(std::string label, std::size_t total)
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_ - std::chrono::seconds(1)) {}
 
-Progress::~Progress() { Finish(); }
+Progress::~Progress() {
+    Finish();
+}
 
 void Progress::Update(std::size_t done, const std::string &status) {
     if (!enabled_ || finished_) return;

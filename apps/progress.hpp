@@ -9,7 +9,7 @@
 namespace dorado::apps {
 
 class Progress {
-public:
+  public:
     /// total = 0 when the total is unknown (then only counts and rate are shown).
     Progress(std::string label, std::size_t total);
     ~Progress();
@@ -18,7 +18,7 @@ public:
     /// Clears the line.
     void Finish();
 
-private:
+  private:
     std::string label_;
     std::size_t total_;
     bool enabled_;

@@ -28,18 +28,18 @@ void Trajectory::Append(int64_t stamp_ns, const Eigen::Isometry3d &T_world_body)
 
 std::optional<Eigen::Isometry3d> Trajectory::Interpolate(int64_t stamp_ns,
                                                          int64_t max_gap_ns) const {
-    if (poses_.empty() || stamp_ns < poses_.front().stamp_ns ||
-        stamp_ns > poses_.back().stamp_ns) {
+    if (poses_.empty() || stamp_ns < poses_.front().stamp_ns || stamp_ns > poses_.back().stamp_ns) {
         return std::nullopt;
     }
-    const auto after = std::lower_bound(
-        poses_.begin(), poses_.end(), stamp_ns,
-        [](const StampedPose &p, int64_t t) { return p.stamp_ns < t; });
+    const auto after =
+        std::lower_bound(poses_.begin(), poses_.end(), stamp_ns,
+                         [](const StampedPose &p, int64_t t) { return p.stamp_ns < t; });
     if (after->stamp_ns == stamp_ns) return after->T_world_body;
     const auto before = std::prev(after);
     const int64_t gap = after->stamp_ns - before->stamp_ns;
     if (gap > max_gap_ns) return std::nullopt;
-    const double alpha = static_cast<double>(stamp_ns - before->stamp_ns) / static_cast<double>(gap);
+    const double alpha =
+        static_cast<double>(stamp_ns - before->stamp_ns) / static_cast<double>(gap);
     return InterpolatePose(before->T_world_body, after->T_world_body, alpha);
 }
 

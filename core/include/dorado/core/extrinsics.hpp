@@ -10,8 +10,9 @@
 namespace dorado {
 
 struct Extrinsics {
-    Eigen::Isometry3d T_base_radar = Eigen::Isometry3d::Identity();  ///< x_base = T_base_radar x_radar
-    Eigen::Isometry3d T_base_imu = Eigen::Isometry3d::Identity();    ///< x_base = T_base_imu x_imu
+    Eigen::Isometry3d T_base_radar =
+        Eigen::Isometry3d::Identity();  ///< x_base = T_base_radar x_radar
+    Eigen::Isometry3d T_base_imu = Eigen::Isometry3d::Identity();  ///< x_base = T_base_imu x_imu
 };
 
 struct VehicleGeometry {

@@ -1,7 +1,8 @@
 #pragma once
 /// @file lie.hpp
-/// SO(3) and SE(3) exponential and logarithm maps in closed form (Rodrigues), with Taylor expansions
-/// near zero. Tangent vectors of SE(3) are ordered [rho (translation part); phi (rotation)].
+/// SO(3) and SE(3) exponential and logarithm maps in closed form (Rodrigues), with Taylor
+/// expansions near zero. Tangent vectors of SE(3) are ordered [rho (translation part); phi
+/// (rotation)].
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

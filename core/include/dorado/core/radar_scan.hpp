@@ -1,7 +1,7 @@
 #pragma once
 /// @file radar_scan.hpp
-/// One scan of a Doppler-capable range sensor (4D radar or FMCW lidar), stored as structure of arrays
-/// so that the estimators read the columns with Eigen without copying.
+/// One scan of a Doppler-capable range sensor (4D radar or FMCW lidar), stored as structure of
+/// arrays so that the estimators read the columns with Eigen without copying.
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -12,9 +12,10 @@ namespace dorado {
 /// A radar scan in the sensor frame ("radar"). Column i of every array belongs to point i.
 ///
 /// Conventions (independent of what a dataset calls its fields):
-/// - `doppler_mps` is the radial velocity of the point relative to the sensor, positive when the point
-///   moves away. For a static point and a sensor moving with velocity v_radar: doppler = -d . v_radar
-///   (paper eq. 1), with d the unit direction from the sensor to the point.
+/// - `doppler_mps` is the radial velocity of the point relative to the sensor, positive when the
+/// point
+///   moves away. For a static point and a sensor moving with velocity v_radar: doppler = -d .
+///   v_radar (paper eq. 1), with d the unit direction from the sensor to the point.
 /// - Directions are derived from `xyz_radar`, never from `azimuth_rad`/`elevation_rad`: datasets
 ///   disagree on the azimuth reference (the paper's Hugin dataset measures it from the Y axis).
 struct RadarScan {
@@ -37,7 +38,8 @@ struct RadarScan {
     /// Resizes every column to n points (contents undefined).
     void Resize(Eigen::Index n);
 
-    /// Fills range/azimuth/elevation from xyz (azimuth from +X towards +Y, elevation from the XY plane).
+    /// Fills range/azimuth/elevation from xyz (azimuth from +X towards +Y, elevation from the XY
+    /// plane).
     void DeriveSphericalFromXyz();
 };
 

@@ -18,7 +18,7 @@ struct StampedPose {
 
 /// Poses with strictly increasing stamps.
 class Trajectory {
-public:
+  public:
     Trajectory() = default;
     /// Takes poses in any order; sorts them. Throws std::invalid_argument on a repeated stamp.
     explicit Trajectory(std::vector<StampedPose> poses);
@@ -39,7 +39,7 @@ public:
     /// Length of the path through the positions [m].
     [[nodiscard]] double PathLength() const;
 
-private:
+  private:
     std::vector<StampedPose> poses_;
 };
 

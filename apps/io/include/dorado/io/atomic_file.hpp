@@ -1,6 +1,7 @@
 #pragma once
 /// @file atomic_file.hpp
-/// Writing result files so that an interrupted run never leaves a truncated file that looks complete.
+/// Writing result files so that an interrupted run never leaves a truncated file that looks
+/// complete.
 
 #include <functional>
 #include <ostream>

@@ -6,8 +6,10 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "dorado/core/imu.hpp"
 #include "dorado/core/radar_scan.hpp"
@@ -20,23 +22,24 @@ struct DatasetEvent {
     enum class Kind { kRadarScan, kImu, kGroundTruth, kBadScan };
     Kind kind = Kind::kRadarScan;
     int64_t stamp_ns = 0;
-    std::size_t scan_index = 0;  ///< index of the radar message in the dataset (for kRadarScan/kBadScan)
-    RadarScan scan;              ///< kRadarScan: finite points only
+    std::size_t scan_index =
+        0;           ///< index of the radar message in the dataset (for kRadarScan/kBadScan)
+    RadarScan scan;  ///< kRadarScan: finite points only
     Eigen::Index removed_nonfinite_points = 0;  ///< kRadarScan: points dropped for NaN/Inf values
-    ImuSample imu;               ///< kImu
-    StampedPose ground_truth;    ///< kGroundTruth: T_world_body of the ground-truth body
-    std::string problem;         ///< kBadScan: why the scan could not be read
+    ImuSample imu;                              ///< kImu
+    StampedPose ground_truth;  ///< kGroundTruth: T_world_body of the ground-truth body
+    std::string problem;       ///< kBadScan: why the scan could not be read
 };
 
 /// A fatal problem with the dataset (cannot open, unreadable index, missing topic): the message
 /// names the file and what is wrong.
 class DatasetError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
 class DatasetReader {
-public:
+  public:
     virtual ~DatasetReader() = default;
     /// Fills the next event; false at the end. Throws DatasetError on an unrecoverable problem.
     virtual bool Next(DatasetEvent &event) = 0;
@@ -46,5 +49,27 @@ public:
 
 /// Opens the reader the config asks for. Throws DatasetError.
 [[nodiscard]] std::unique_ptr<DatasetReader> OpenDataset(const DatasetConfig &config);
+
+}  // namespace dorado::io
+
+namespace dorado::io {
+
+/// What one topic (or, for a folder, the scan files) holds.
+struct TopicSummary {
+    std::string topic;
+    std::string type;
+    std::size_t messages = 0;
+    int64_t first_ns = 0;  ///< record time of the first message
+    int64_t last_ns = 0;
+    std::string fields;  ///< point fields of the first message (point clouds only)
+};
+
+/// Every topic in the config's bag (or the scan folder as one topic), from the index only.
+/// Throws DatasetError.
+[[nodiscard]] std::vector<TopicSummary> ListTopics(const DatasetConfig &config);
+
+/// The ground truth the config names: its trajectory file, else its ground-truth topic in the bag.
+/// Empty when the dataset has none. Throws TrajectoryFileError / DatasetError naming the file.
+[[nodiscard]] std::optional<Trajectory> LoadGroundTruth(const DatasetConfig &config);
 
 }  // namespace dorado::io

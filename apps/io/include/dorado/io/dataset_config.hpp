@@ -14,7 +14,7 @@ namespace dorado::io {
 
 /// A bad configuration: the message names the file and the key.
 class ConfigError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
@@ -22,16 +22,17 @@ enum class ReaderKind { kRosbag, kFolder };
 enum class TrajectoryFormat { kTum, kKitti, kPaperCsv };
 
 struct RosbagSource {
-    std::string path;                ///< the .bag file
+    std::string path;                                     ///< the .bag file
     std::string radar_topic = "/hugin_raf_1/radar_data";  ///< PointCloud2 or PointCloud
-    std::string imu_topic;           ///< sensor_msgs/Imu; empty = none
-    std::string ground_truth_topic;  ///< nav_msgs/Odometry or geometry_msgs/PoseStamped; empty = none
+    std::string imu_topic;                                ///< sensor_msgs/Imu; empty = none
+    std::string
+        ground_truth_topic;  ///< nav_msgs/Odometry or geometry_msgs/PoseStamped; empty = none
 };
 
 struct FolderSource {
-    std::string scans_dir;        ///< one file per scan, taken in lexicographic order
+    std::string scans_dir;           ///< one file per scan, taken in lexicographic order
     std::string extension = ".bin";  ///< ".bin" (raw little-endian columns) or ".pcd"
-    std::string timestamps_file;  ///< one time [s] per line, one line per scan file
+    std::string timestamps_file;     ///< one time [s] per line, one line per scan file
     /// For .bin: one name per column, each column a float32 ("_" = ignored), e.g. View-of-Delft
     /// [x, y, z, power, doppler, _, _]. The names are those of the field map.
     std::vector<std::string> columns;

@@ -14,7 +14,14 @@ namespace dorado::io {
 
 /// sensor_msgs/PointField datatype codes (identical in PCL's pcl::PCLPointField).
 enum class FieldType : uint8_t {
-    kInt8 = 1, kUint8 = 2, kInt16 = 3, kUint16 = 4, kInt32 = 5, kUint32 = 6, kFloat32 = 7, kFloat64 = 8
+    kInt8 = 1,
+    kUint8 = 2,
+    kInt16 = 3,
+    kUint16 = 4,
+    kInt32 = 5,
+    kUint32 = 6,
+    kFloat32 = 7,
+    kFloat64 = 8
 };
 
 struct PointFieldDesc {
@@ -55,13 +62,19 @@ struct FieldMap {
 
 /// Thrown when the layout cannot be decoded (a field missing, a size that lies).
 class DecodeError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
 /// Decodes every point (NaN values are kept; see CountNonFinite / RemoveNonFinite).
 /// Throws DecodeError naming the field or the size that does not fit.
 [[nodiscard]] RadarScan DecodePointCloud(const CloudBufferView &cloud, const FieldMap &map);
+
+/// Decodes a raw little-endian float32 scan file (View-of-Delft, ColoRadar): `columns` names each
+/// float32 column ("_" = ignored), then the field map picks the quantities. Throws DecodeError when
+/// the size is not a whole number of points.
+[[nodiscard]] RadarScan DecodeFloat32Columns(const uint8_t *data, std::size_t size,
+                                             const std::vector<std::string> &columns, const FieldMap &map);
 
 /// Names of the fields, comma separated, with their types (for messages and `dorado info`).
 [[nodiscard]] std::string DescribeFields(const std::vector<PointFieldDesc> &fields);

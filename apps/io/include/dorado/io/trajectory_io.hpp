@@ -1,8 +1,8 @@
 #pragma once
 /// @file trajectory_io.hpp
-/// Trajectory files: TUM (`t x y z qx qy qz qw`), KITTI (3x4 row-major per line, times in a separate
-/// file) and the paper dataset's CSV (`sec,nsec,x,y,z,qx,qy,qz,qw`). Written files are readable by
-/// evo unchanged; every write is atomic (temporary file, then rename).
+/// Trajectory files: TUM (`t x y z qx qy qz qw`), KITTI (3x4 row-major per line, times in a
+/// separate file) and the paper dataset's CSV (`sec,nsec,x,y,z,qx,qy,qz,qw`). Written files are
+/// readable by evo unchanged; every write is atomic (temporary file, then rename).
 
 #include <stdexcept>
 #include <string>
@@ -13,7 +13,7 @@ namespace dorado::io {
 
 /// A malformed trajectory file: the message names the file and the line.
 class TrajectoryFileError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 

@@ -1,0 +1,192 @@
+// `dorado info DATASET`: what a dataset holds and what is wrong with it.
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+#include <map>
+
+#include "commands.hpp"
+#include "dorado/core/time.hpp"
+#include "dorado/io/dataset.hpp"
+#include "progress.hpp"
+
+namespace dorado::apps {
+
+namespace {
+
+/// Problems of one kind: counted, the first few kept as examples.
+class ProblemLog {
+  public:
+    void Add(const std::string &kind, const std::string &example) {
+        auto &entry = problems_[kind];
+        if (entry.count++ < kExamples) entry.examples.push_back(example);
+    }
+    void Print() const {
+        if (problems_.empty()) {
+            std::printf("problems: none found\n");
+            return;
+        }
+        std::printf("problems:\n");
+        for (const auto &[kind, entry] : problems_) {
+            std::printf("  %s: %zu\n", kind.c_str(), entry.count);
+            for (const auto &e : entry.examples) std::printf("    - %s\n", e.c_str());
+            if (entry.count > entry.examples.size())
+                std::printf("    - ... and %zu more\n", entry.count - entry.examples.size());
+        }
+    }
+
+  private:
+    static constexpr std::size_t kExamples = 5;
+    struct Entry {
+        std::size_t count = 0;
+        std::vector<std::string> examples;
+    };
+    std::map<std::string, Entry> problems_;
+};
+
+double Median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+
+void PrintTopics(const std::vector<io::TopicSummary> &topics, const io::DatasetConfig &config) {
+    std::printf("topics:\n");
+    for (const auto &t : topics) {
+        const double span_s = NanosToSeconds(t.last_ns - t.first_ns);
+        const double rate =
+            span_s > 0 && t.messages > 1 ? static_cast<double>(t.messages - 1) / span_s : 0.0;
+        std::string role;
+        if (t.topic == config.rosbag.radar_topic) role = "  <- radar";
+        if (t.topic == config.rosbag.imu_topic) role = "  <- imu";
+        if (t.topic == config.rosbag.ground_truth_topic) role = "  <- ground truth";
+        std::printf("  %-32s %-28s %7zu msgs %8.2f s %7.2f Hz%s\n", t.topic.c_str(), t.type.c_str(),
+                    t.messages, span_s, rate, role.c_str());
+        if (!t.fields.empty()) std::printf("      fields: %s\n", t.fields.c_str());
+    }
+}
+
+int RunInfo(const std::string &dataset_arg) {
+    const io::DatasetConfig config = io::ResolveDataset(dataset_arg);
+    const bool is_bag = config.reader == io::ReaderKind::kRosbag;
+    std::printf("dataset: %s (%s %s)\n", config.name.c_str(), is_bag ? "rosbag" : "folder",
+                is_bag ? config.rosbag.path.c_str() : config.folder.scans_dir.c_str());
+    const auto topics = io::ListTopics(config);
+    PrintTopics(topics, config);
+    std::size_t expected_scans = 0;
+    for (const auto &t : topics) {
+        if (!is_bag || t.topic == config.rosbag.radar_topic) expected_scans = t.messages;
+    }
+
+    auto reader = io::OpenDataset(config);
+    ProblemLog problems;
+    Progress progress("reading scans", expected_scans);
+    std::vector<double> points, intervals_ms;
+    std::size_t scans = 0, bad = 0, imu = 0, gt = 0;
+    int64_t first_ns = 0, last_ns = 0, last_imu_ns = INT64_MIN;
+    double min_doppler = 0.0, max_doppler = 0.0;
+    io::DatasetEvent event;
+    while (reader->Next(event)) {
+        switch (event.kind) {
+            case io::DatasetEvent::Kind::kBadScan:
+                ++bad;
+                problems.Add("unreadable scans", event.problem);
+                break;
+            case io::DatasetEvent::Kind::kImu:
+                if (event.stamp_ns <= last_imu_ns)
+                    problems.Add("IMU time not increasing",
+                                 "at " + std::to_string(NanosToSeconds(event.stamp_ns)) + " s");
+                last_imu_ns = event.stamp_ns;
+                if (!event.imu.omega_imu_radps.allFinite() ||
+                    !event.imu.accel_imu_mps2.allFinite()) {
+                    problems.Add("IMU samples with NaN/Inf",
+                                 "at " + std::to_string(NanosToSeconds(event.stamp_ns)) + " s");
+                }
+                ++imu;
+                break;
+            case io::DatasetEvent::Kind::kGroundTruth:
+                ++gt;
+                break;
+            case io::DatasetEvent::Kind::kRadarScan: {
+                const std::string where = "scan " + std::to_string(event.scan_index);
+                if (scans == 0) {
+                    first_ns = event.stamp_ns;
+                } else {
+                    const double dt_ms = NanosToSeconds(event.stamp_ns - last_ns) * 1e3;
+                    if (dt_ms <= 0.0) {
+                        char text[96];
+                        std::snprintf(text, sizeof(text), "%s: %.1f ms after the previous scan",
+                                      where.c_str(), dt_ms);
+                        problems.Add("radar time not increasing", text);
+                    } else {
+                        intervals_ms.push_back(dt_ms);
+                    }
+                }
+                last_ns = std::max(last_ns, event.stamp_ns);
+                if (event.removed_nonfinite_points > 0) {
+                    problems.Add(
+                        "scans with NaN/Inf points (removed)",
+                        where + ": " + std::to_string(event.removed_nonfinite_points) + " points");
+                }
+                if (event.scan.empty()) problems.Add("empty scans", where);
+                if (!event.scan.has_power)
+                    problems.Add("scans without a power field (unit weights)", where);
+                if (!event.scan.empty()) {
+                    min_doppler = std::min(min_doppler, event.scan.doppler_mps.minCoeff());
+                    max_doppler = std::max(max_doppler, event.scan.doppler_mps.maxCoeff());
+                }
+                points.push_back(static_cast<double>(event.scan.size()));
+                ++scans;
+                break;
+            }
+        }
+        progress.Update(scans + bad);
+    }
+    progress.Finish();
+
+    std::printf("radar scans: %zu read, %zu unreadable\n", scans, bad);
+    if (scans > 0) {
+        const double span_s = NanosToSeconds(last_ns - first_ns);
+        const double median_ms = Median(intervals_ms);
+        const double max_ms = intervals_ms.empty()
+                                  ? 0.0
+                                  : *std::max_element(intervals_ms.begin(), intervals_ms.end());
+        std::printf(
+            "  time span: %.3f s, scan rate %.2f Hz (median interval %.1f ms, max %.1f ms)\n",
+            span_s, median_ms > 0 ? 1e3 / median_ms : 0.0, median_ms, max_ms);
+        std::printf("  points per scan: min %.0f / median %.0f / max %.0f\n",
+                    *std::min_element(points.begin(), points.end()), Median(points),
+                    *std::max_element(points.begin(), points.end()));
+        std::printf("  doppler: %.2f .. %.2f m/s\n", min_doppler, max_doppler);
+        if (median_ms > 0) {
+            for (std::size_t i = 0; i < intervals_ms.size(); ++i) {
+                if (intervals_ms[i] > 5.0 * median_ms) {
+                    char text[96];
+                    std::snprintf(text, sizeof(text), "%.2f s without a scan",
+                                  intervals_ms[i] * 1e-3);
+                    problems.Add("gaps longer than 5 scan intervals", text);
+                }
+            }
+        }
+    }
+    if (!config.rosbag.imu_topic.empty() || imu > 0) std::printf("imu samples: %zu\n", imu);
+    if (gt > 0) std::printf("ground-truth poses in the bag: %zu\n", gt);
+    problems.Print();
+    return 0;
+}
+
+}  // namespace
+
+void RegisterInfoCommand(CLI::App &app) {
+    auto *cmd = app.add_subcommand(
+        "info", "Print what a dataset holds: topics, scan rate, points per scan, fields, problems");
+    auto dataset = std::make_shared<std::string>();
+    cmd->add_option("DATASET", *dataset,
+                    "dataset description (.yaml), a .bag, or a folder with dataset.yaml")
+        ->required();
+    cmd->callback([dataset]() {
+        const int code = RunInfo(*dataset);
+        if (code != 0) throw CLI::RuntimeError(code);
+    });
+}
+
+}  // namespace dorado::apps

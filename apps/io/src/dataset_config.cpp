@@ -1,0 +1,377 @@
+#include "dorado/io/dataset_config.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+namespace dorado::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Reads one YAML mapping, remembering which keys were used so that misspelled keys are errors.
+class Section {
+  public:
+    Section(const YAML::Node &node, std::string file, std::string prefix)
+        : node_(node), file_(std::move(file)), prefix_(std::move(prefix)) {
+        // Absent and empty ("key:") sections mean "all defaults".
+        present_ = node_.IsDefined() && !node_.IsNull();
+        if (present_ && !node_.IsMap())
+            Fail(prefix_.empty() ? "(top level)" : prefix_, "must be a mapping");
+    }
+
+    [[noreturn]] void Fail(const std::string &key, const std::string &what) const {
+        throw ConfigError(file_ + ": key '" + key + "': " + what);
+    }
+
+    const std::string &Prefix() const { return prefix_; }
+
+    std::string Key(const std::string &key) const {
+        return prefix_.empty() ? key : prefix_ + "." + key;
+    }
+
+    bool Has(const std::string &key) {
+        known_.insert(key);
+        return present_ && node_[key].IsDefined() && !node_[key].IsNull();
+    }
+
+    template <typename T>
+    T Get(const std::string &key, const T &fallback) {
+        if (!Has(key)) return fallback;
+        try {
+            return node_[key].as<T>();
+        } catch (const YAML::Exception &) {
+            Fail(Key(key),
+                 "has the wrong type (line " + std::to_string(node_[key].Mark().line + 1) + ")");
+        }
+    }
+
+    double GetPositive(const std::string &key, double fallback) {
+        const double v = Get<double>(key, fallback);
+        if (!(std::isfinite(v) && v > 0.0))
+            Fail(Key(key), "must be a positive number, got " + std::to_string(v));
+        return v;
+    }
+
+    Section Child(const std::string &key) {
+        known_.insert(key);
+        return Section(present_ ? node_[key] : YAML::Node(YAML::NodeType::Undefined), file_,
+                       Key(key));
+    }
+
+    /// Every key of the mapping must have been asked for.
+    void RejectUnknownKeys() const {
+        if (!present_) return;
+        for (const auto &entry : node_) {
+            const std::string key = entry.first.as<std::string>();
+            if (known_.count(key)) continue;
+            std::string hint;
+            for (const auto &k : known_) {
+                if (EditDistance(k, key) <= 2) hint = " (did you mean '" + k + "'?)";
+            }
+            Fail(Key(key), "unknown key" + hint + "; known keys: " + KnownList());
+        }
+    }
+
+  private:
+    static std::size_t EditDistance(const std::string &a, const std::string &b) {
+        std::vector<std::size_t> row(b.size() + 1);
+        for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+        for (std::size_t i = 1; i <= a.size(); ++i) {
+            std::size_t diagonal = row[0];
+            row[0] = i;
+            for (std::size_t j = 1; j <= b.size(); ++j) {
+                const std::size_t up = row[j];
+                row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+                diagonal = up;
+            }
+        }
+        return row[b.size()];
+    }
+
+    std::string KnownList() const {
+        std::string list;
+        for (const auto &k : known_) list += (list.empty() ? "" : ", ") + k;
+        return list;
+    }
+
+    const YAML::Node node_;
+    bool present_ = false;
+    std::string file_;
+    std::string prefix_;
+    std::set<std::string> known_;
+};
+
+std::string ResolvePath(const std::string &path, const fs::path &base_dir) {
+    if (path.empty() || fs::path(path).is_absolute()) return path;
+    return (base_dir / path).lexically_normal().string();
+}
+
+Eigen::Isometry3d ReadTransform(Section section) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    const auto t = section.Get<std::vector<double>>("translation_m", {0.0, 0.0, 0.0});
+    if (t.size() != 3) section.Fail(section.Key("translation_m"), "must have 3 values");
+    T.translation() << t[0], t[1], t[2];
+    const bool has_rpy = section.Has("rotation_rpy_deg");
+    const bool has_q = section.Has("quaternion_xyzw");
+    if (has_rpy && has_q) {
+        section.Fail(section.Key("rotation_rpy_deg"),
+                     "give either rotation_rpy_deg or quaternion_xyzw, not both");
+    }
+    if (has_rpy) {
+        const auto rpy = section.Get<std::vector<double>>("rotation_rpy_deg", {});
+        if (rpy.size() != 3) section.Fail(section.Key("rotation_rpy_deg"), "must have 3 values");
+        const double k = M_PI / 180.0;
+        // R = Rz(yaw) Ry(pitch) Rx(roll)
+        T.linear() = (Eigen::AngleAxisd(rpy[2] * k, Eigen::Vector3d::UnitZ()) *
+                      Eigen::AngleAxisd(rpy[1] * k, Eigen::Vector3d::UnitY()) *
+                      Eigen::AngleAxisd(rpy[0] * k, Eigen::Vector3d::UnitX()))
+                         .toRotationMatrix();
+    }
+    if (has_q) {
+        const auto q = section.Get<std::vector<double>>("quaternion_xyzw", {});
+        if (q.size() != 4) section.Fail(section.Key("quaternion_xyzw"), "must have 4 values");
+        const Eigen::Quaterniond quat(q[3], q[0], q[1], q[2]);
+        if (std::abs(quat.norm() - 1.0) > 1e-3)
+            section.Fail(section.Key("quaternion_xyzw"), "must have norm 1");
+        T.linear() = quat.normalized().toRotationMatrix();
+    }
+    if (!T.matrix().allFinite()) section.Fail(section.Prefix(), "is not finite");
+    section.RejectUnknownKeys();
+    return T;
+}
+
+}  // namespace
+
+namespace {
+
+FieldMap ReadFieldMap(Section section) {
+    FieldMap map;
+    map.x = section.Get<std::string>("x", map.x);
+    map.y = section.Get<std::string>("y", map.y);
+    map.z = section.Get<std::string>("z", map.z);
+    map.range = section.Get<std::string>("range", map.range);
+    map.azimuth = section.Get<std::string>("azimuth", map.azimuth);
+    map.elevation = section.Get<std::string>("elevation", map.elevation);
+    map.power = section.Get<std::string>("power", map.power);
+    map.doppler = section.Get<std::string>("doppler", map.doppler);
+    map.doppler_sign = section.Get<double>("doppler_sign", map.doppler_sign);
+    if (map.doppler_sign != 1.0 && map.doppler_sign != -1.0) {
+        section.Fail(section.Key("doppler_sign"), "must be 1 or -1");
+    }
+    for (const auto *required : {&map.x, &map.y, &map.z, &map.doppler}) {
+        if (required->empty())
+            section.Fail(section.Prefix(), "x, y, z and doppler need a field name");
+    }
+    section.RejectUnknownKeys();
+    return map;
+}
+
+TrajectoryFormat ParseFormat(Section &section, const std::string &key) {
+    const auto text = section.Get<std::string>(key, "tum");
+    if (text == "tum") return TrajectoryFormat::kTum;
+    if (text == "kitti") return TrajectoryFormat::kKitti;
+    if (text == "paper_csv") return TrajectoryFormat::kPaperCsv;
+    section.Fail(section.Key(key), "must be tum, kitti or paper_csv, got '" + text + "'");
+}
+
+const char *FormatName(TrajectoryFormat format) {
+    switch (format) {
+        case TrajectoryFormat::kTum:
+            return "tum";
+        case TrajectoryFormat::kKitti:
+            return "kitti";
+        case TrajectoryFormat::kPaperCsv:
+            return "paper_csv";
+    }
+    return "tum";
+}
+
+}  // namespace
+
+DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
+    YAML::Node root;
+    try {
+        root = YAML::LoadFile(yaml_path);
+    } catch (const YAML::BadFile &) {
+        throw ConfigError(yaml_path + ": cannot open");
+    } catch (const YAML::Exception &e) {
+        throw ConfigError(yaml_path + ": not valid YAML: " + e.what());
+    }
+    const fs::path base_dir = fs::absolute(yaml_path).parent_path();
+    Section top(root, yaml_path, "");
+    DatasetConfig config;
+    config.config_path = yaml_path;
+    config.name = top.Get<std::string>("name", fs::path(yaml_path).stem().string());
+
+    const auto reader = top.Get<std::string>("reader", "rosbag");
+    if (reader == "rosbag") {
+        config.reader = ReaderKind::kRosbag;
+    } else if (reader == "folder") {
+        config.reader = ReaderKind::kFolder;
+    } else {
+        top.Fail("reader", "must be rosbag or folder, got '" + reader + "'");
+    }
+
+    Section rosbag = top.Child("rosbag");
+    config.rosbag.path = ResolvePath(rosbag.Get<std::string>("path", ""), base_dir);
+    config.rosbag.radar_topic = rosbag.Get<std::string>("radar_topic", config.rosbag.radar_topic);
+    config.rosbag.imu_topic = rosbag.Get<std::string>("imu_topic", "");
+    config.rosbag.ground_truth_topic = rosbag.Get<std::string>("ground_truth_topic", "");
+    rosbag.RejectUnknownKeys();
+    if (config.reader == ReaderKind::kRosbag) {
+        if (config.rosbag.path.empty()) top.Fail("rosbag.path", "is required for reader: rosbag");
+        if (config.rosbag.radar_topic.empty()) top.Fail("rosbag.radar_topic", "must not be empty");
+    }
+
+    Section folder = top.Child("folder");
+    config.folder.scans_dir = ResolvePath(folder.Get<std::string>("scans_dir", ""), base_dir);
+    config.folder.extension = folder.Get<std::string>("extension", config.folder.extension);
+    config.folder.timestamps_file =
+        ResolvePath(folder.Get<std::string>("timestamps_file", ""), base_dir);
+    config.folder.columns = folder.Get<std::vector<std::string>>("columns", {});
+    folder.RejectUnknownKeys();
+    if (config.reader == ReaderKind::kFolder) {
+        if (config.folder.scans_dir.empty())
+            top.Fail("folder.scans_dir", "is required for reader: folder");
+        if (config.folder.timestamps_file.empty())
+            top.Fail("folder.timestamps_file", "is required for reader: folder");
+        if (config.folder.extension != ".bin" && config.folder.extension != ".pcd") {
+            top.Fail("folder.extension", "must be .bin or .pcd");
+        }
+        if (config.folder.extension == ".bin" && config.folder.columns.empty()) {
+            top.Fail("folder.columns", "is required for .bin scans (one name per float32 column)");
+        }
+    }
+
+    config.fields = ReadFieldMap(top.Child("fields"));
+
+    Section gt = top.Child("ground_truth");
+    config.ground_truth.path = ResolvePath(gt.Get<std::string>("path", ""), base_dir);
+    config.ground_truth.format = ParseFormat(gt, "format");
+    config.ground_truth.kitti_times_path =
+        ResolvePath(gt.Get<std::string>("kitti_times", ""), base_dir);
+    gt.RejectUnknownKeys();
+    if (config.ground_truth.format == TrajectoryFormat::kKitti &&
+        !config.ground_truth.path.empty() && config.ground_truth.kitti_times_path.empty()) {
+        top.Fail("ground_truth.kitti_times", "is required for format: kitti");
+    }
+
+    Section extrinsics = top.Child("extrinsics");
+    config.extrinsics.T_base_radar = ReadTransform(extrinsics.Child("T_base_radar"));
+    config.extrinsics.T_base_imu = ReadTransform(extrinsics.Child("T_base_imu"));
+    extrinsics.RejectUnknownKeys();
+
+    Section vehicle = top.Child("vehicle");
+    config.vehicle.half_wheelbase_m =
+        vehicle.GetPositive("half_wheelbase_m", config.vehicle.half_wheelbase_m);
+    vehicle.RejectUnknownKeys();
+
+    top.RejectUnknownKeys();
+    return config;
+}
+
+DatasetConfig ResolveDataset(const std::string &argument) {
+    const fs::path path(argument);
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) {
+        const fs::path description = path / "dataset.yaml";
+        if (fs::exists(description)) return LoadDatasetConfig(description.string());
+        throw ConfigError(
+            argument +
+            ": a folder without dataset.yaml; pass a dataset description (.yaml) or a .bag");
+    }
+    if (!fs::exists(path, ec)) throw ConfigError(argument + ": no such file");
+    const std::string ext = path.extension().string();
+    if (ext == ".yaml" || ext == ".yml") return LoadDatasetConfig(argument);
+    if (ext == ".bag") {
+        // The paper's Hugin dataset layout: radar PointCloud2 on /hugin_raf_1/radar_data.
+        DatasetConfig config;
+        config.name = path.stem().string();
+        config.reader = ReaderKind::kRosbag;
+        config.rosbag.path = argument;
+        return config;
+    }
+    throw ConfigError(
+        argument +
+        ": not a dataset (expected a .yaml description, a .bag, or a folder with dataset.yaml)");
+}
+
+namespace {
+
+void EmitTransform(YAML::Emitter &out, const char *name, const Eigen::Isometry3d &T) {
+    const Eigen::Quaterniond q(T.linear());
+    const Eigen::Vector3d t = T.translation();
+    out << YAML::Key << name << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "translation_m" << YAML::Value << YAML::Flow
+        << std::vector<double>{t.x(), t.y(), t.z()};
+    out << YAML::Key << "quaternion_xyzw" << YAML::Value << YAML::Flow
+        << std::vector<double>{q.x(), q.y(), q.z(), q.w()};
+    out << YAML::EndMap;
+}
+
+}  // namespace
+
+std::string DatasetConfigToYaml(const DatasetConfig &config) {
+    YAML::Emitter out;
+    out.SetDoublePrecision(17);
+    out << YAML::BeginMap;
+    out << YAML::Key << "name" << YAML::Value << config.name;
+    out << YAML::Key << "reader" << YAML::Value
+        << (config.reader == ReaderKind::kRosbag ? "rosbag" : "folder");
+    if (config.reader == ReaderKind::kRosbag) {
+        out << YAML::Key << "rosbag" << YAML::Value << YAML::BeginMap;
+        out << YAML::Key << "path" << YAML::Value << config.rosbag.path;
+        out << YAML::Key << "radar_topic" << YAML::Value << config.rosbag.radar_topic;
+        out << YAML::Key << "imu_topic" << YAML::Value << config.rosbag.imu_topic;
+        out << YAML::Key << "ground_truth_topic" << YAML::Value << config.rosbag.ground_truth_topic;
+        out << YAML::EndMap;
+    } else {
+        out << YAML::Key << "folder" << YAML::Value << YAML::BeginMap;
+        out << YAML::Key << "scans_dir" << YAML::Value << config.folder.scans_dir;
+        out << YAML::Key << "extension" << YAML::Value << config.folder.extension;
+        out << YAML::Key << "timestamps_file" << YAML::Value << config.folder.timestamps_file;
+        out << YAML::Key << "columns" << YAML::Value << YAML::Flow << config.folder.columns;
+        out << YAML::EndMap;
+    }
+    const FieldMap &f = config.fields;
+    out << YAML::Key << "fields" << YAML::Value << YAML::BeginMap;
+    for (const auto &[key, value] :
+         std::vector<std::pair<const char *, std::string>>{{"x", f.x},
+                                                           {"y", f.y},
+                                                           {"z", f.z},
+                                                           {"range", f.range},
+                                                           {"azimuth", f.azimuth},
+                                                           {"elevation", f.elevation},
+                                                           {"power", f.power},
+                                                           {"doppler", f.doppler}}) {
+        out << YAML::Key << key << YAML::Value << value;
+    }
+    out << YAML::Key << "doppler_sign" << YAML::Value << f.doppler_sign;
+    out << YAML::EndMap;
+    if (!config.ground_truth.path.empty()) {
+        out << YAML::Key << "ground_truth" << YAML::Value << YAML::BeginMap;
+        out << YAML::Key << "path" << YAML::Value << config.ground_truth.path;
+        out << YAML::Key << "format" << YAML::Value << FormatName(config.ground_truth.format);
+        if (!config.ground_truth.kitti_times_path.empty()) {
+            out << YAML::Key << "kitti_times" << YAML::Value
+                << config.ground_truth.kitti_times_path;
+        }
+        out << YAML::EndMap;
+    }
+    out << YAML::Key << "extrinsics" << YAML::Value << YAML::BeginMap;
+    EmitTransform(out, "T_base_radar", config.extrinsics.T_base_radar);
+    EmitTransform(out, "T_base_imu", config.extrinsics.T_base_imu);
+    out << YAML::EndMap;
+    out << YAML::Key << "vehicle" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "half_wheelbase_m" << YAML::Value << config.vehicle.half_wheelbase_m;
+    out << YAML::EndMap;
+    out << YAML::EndMap;
+    return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace dorado::io

@@ -1,0 +1,127 @@
+// Dataset descriptions: the shipped ones load; mistakes name the file and the key.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "dorado/io/dataset_config.hpp"
+
+namespace dorado::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+class DatasetConfigTest : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        dir_ = fs::path(::testing::TempDir()) / ("dorado_cfg_" + std::to_string(::getpid()));
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    std::string WriteYaml(const std::string &text) {
+        const std::string path = (dir_ / "d.yaml").string();
+        std::ofstream(path) << text;
+        return path;
+    }
+
+    void ExpectError(const std::string &text, const std::string &needle) {
+        const std::string path = WriteYaml(text);
+        try {
+            (void)LoadDatasetConfig(path);
+            ADD_FAILURE() << "no error for:\n" << text;
+        } catch (const ConfigError &e) {
+            EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+        }
+    }
+
+    fs::path dir_;
+};
+
+TEST_F(DatasetConfigTest, ShippedDescriptionsLoad) {
+    for (const char *name : {"hugin", "view_of_delft", "coloradar", "ntu4dradlm"}) {
+        const std::string path = std::string(DORADO_SOURCE_DIR) + "/configs/" + name + ".yaml";
+        EXPECT_NO_THROW((void)LoadDatasetConfig(path)) << path;
+    }
+    const DatasetConfig hugin =
+        LoadDatasetConfig(std::string(DORADO_SOURCE_DIR) + "/configs/hugin.yaml");
+    EXPECT_EQ(hugin.rosbag.radar_topic, "/hugin_raf_1/radar_data");
+    EXPECT_DOUBLE_EQ(hugin.extrinsics.T_base_radar.translation().x(), 0.70);
+    EXPECT_DOUBLE_EQ(hugin.vehicle.half_wheelbase_m, 0.256);
+    EXPECT_TRUE(fs::path(hugin.rosbag.path).is_absolute()) << "relative to the YAML file";
+    const DatasetConfig vod =
+        LoadDatasetConfig(std::string(DORADO_SOURCE_DIR) + "/configs/view_of_delft.yaml");
+    EXPECT_EQ(vod.reader, ReaderKind::kFolder);
+    EXPECT_EQ(vod.folder.columns.size(), 7u);
+    EXPECT_EQ(vod.fields.doppler, "v_r");
+}
+
+TEST_F(DatasetConfigTest, RollPitchYawAreZyxEulerAnglesInDegrees) {
+    const auto config =
+        LoadDatasetConfig(WriteYaml("rosbag: {path: x.bag}\nextrinsics:\n  T_base_radar: "
+                                    "{translation_m: [1, 2, 3], rotation_rpy_deg: [0, 0, 90]}\n"));
+    const Eigen::Vector3d x_base = config.extrinsics.T_base_radar * Eigen::Vector3d(1, 0, 0);
+    EXPECT_NEAR((x_base - Eigen::Vector3d(1, 3, 3)).norm(), 0.0, 1e-12)
+        << "radar X points along base Y";
+}
+
+TEST_F(DatasetConfigTest, MisspelledKeySuggestsTheRightOne) {
+    ExpectError("rosbag: {path: x.bag, radar_topc: /r}\n",
+                "rosbag.radar_topc': unknown key (did you mean 'radar_topic'?)");
+    ExpectError("rosbag: {path: x.bag}\nvehicel: {half_wheelbase_m: 1}\n",
+                "'vehicel': unknown key (did you mean 'vehicle'?)");
+}
+
+TEST_F(DatasetConfigTest, OutOfRangeAndWrongTypesNameTheKey) {
+    ExpectError("rosbag: {path: x.bag}\nvehicle: {half_wheelbase_m: -1}\n",
+                "vehicle.half_wheelbase_m': must be a positive number");
+    ExpectError("rosbag: {path: x.bag}\nvehicle: {half_wheelbase_m: wide}\n",
+                "vehicle.half_wheelbase_m': has the wrong type (line 2)");
+    ExpectError("rosbag: {path: x.bag}\nfields: {doppler_sign: 2}\n",
+                "fields.doppler_sign': must be 1 or -1");
+    ExpectError("reader: lidar\n", "'reader': must be rosbag or folder");
+    ExpectError("reader: rosbag\n", "'rosbag.path': is required");
+    ExpectError("reader: folder\nfolder: {scans_dir: s, timestamps_file: t}\n",
+                "'folder.columns': is required");
+    ExpectError("rosbag: {path: x.bag}\nextrinsics: {T_base_radar: {translation_m: [1, 2]}}\n",
+                "extrinsics.T_base_radar.translation_m': must have 3 values");
+    ExpectError("rosbag: {path: x.bag\n", "not valid YAML");
+}
+
+TEST_F(DatasetConfigTest, YamlRoundTrip) {
+    DatasetConfig config;
+    config.name = "sim";
+    config.rosbag.path = (dir_ / "data.bag").string();
+    config.rosbag.imu_topic = "/imu/data";
+    config.fields.doppler_sign = -1;
+    config.extrinsics.T_base_radar.linear() =
+        Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    config.extrinsics.T_base_radar.translation() << 0.7, 0.01, 0.45;
+    config.vehicle.half_wheelbase_m = 0.3;
+    config.ground_truth.path = (dir_ / "gt.tum").string();
+    const DatasetConfig back = LoadDatasetConfig(WriteYaml(DatasetConfigToYaml(config)));
+    EXPECT_EQ(back.name, "sim");
+    EXPECT_EQ(back.rosbag.path, config.rosbag.path);
+    EXPECT_EQ(back.rosbag.imu_topic, "/imu/data");
+    EXPECT_EQ(back.fields.doppler_sign, -1);
+    EXPECT_LT(
+        (back.extrinsics.T_base_radar.matrix() - config.extrinsics.T_base_radar.matrix()).norm(),
+        1e-14);
+    EXPECT_EQ(back.vehicle.half_wheelbase_m, 0.3);
+    EXPECT_EQ(back.ground_truth.path, config.ground_truth.path);
+}
+
+TEST_F(DatasetConfigTest, ResolveDatasetAcceptsBagsYamlAndFolders) {
+    EXPECT_THROW((void)ResolveDataset((dir_ / "nothing.bag").string()), ConfigError);
+    std::ofstream((dir_ / "x.bag").string()) << "not really";
+    const DatasetConfig bag = ResolveDataset((dir_ / "x.bag").string());
+    EXPECT_EQ(bag.rosbag.radar_topic, "/hugin_raf_1/radar_data");
+    WriteYaml("rosbag: {path: x.bag}\n");
+    fs::copy_file(dir_ / "d.yaml", dir_ / "dataset.yaml");
+    EXPECT_EQ(ResolveDataset(dir_.string()).rosbag.path, (dir_ / "x.bag").string());
+    EXPECT_THROW((void)ResolveDataset((dir_ / "d.txt").string()), ConfigError);
+}
+
+}  // namespace
+}  // namespace dorado::io
