@@ -124,6 +124,10 @@ Eigen::Matrix3Xd LocalMap::Points() const {
     return out;
 }
 
+void LocalMap::BuildIndex() const {
+    impl_->EnsureSearch();
+}
+
 std::size_t LocalMap::size() const {
     return impl_->point_count;
 }

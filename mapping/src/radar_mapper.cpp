@@ -51,6 +51,15 @@ std::vector<DopplerObservation> Thin(const std::vector<DopplerObservation> &all,
     return out;
 }
 
+// Evenly spaced columns, at most max_count: radar scans are too sparse for a voxel grid alone to
+// bound the registration cost.
+Eigen::Matrix3Xd ThinColumns(const Eigen::Matrix3Xd &points, int max_count) {
+    if (points.cols() <= max_count) return points;
+    Eigen::Matrix3Xd out(3, max_count);
+    for (int k = 0; k < max_count; ++k) out.col(k) = points.col(k * points.cols() / max_count);
+    return out;
+}
+
 void Require(bool ok, const char *key, const char *what) {
     if (!ok) throw std::invalid_argument(std::string("mapper config: ") + key + " " + what);
 }
@@ -64,6 +73,7 @@ void MapperConfig::Validate() const {
     map.Validate();
     Require(keyframe_distance_m >= 0.0, "keyframe_distance_m", "must be >= 0");
     Require(keyframe_angle_deg >= 0.0, "keyframe_angle_deg", "must be >= 0");
+    Require(max_source_points >= 10, "max_source_points", "must be >= 10");
     Require(max_iterations >= 1, "max_iterations", "must be >= 1");
     Require(initial_threshold_m > 0.0, "initial_threshold_m", "must be > 0");
     Require(min_threshold_m > 0.0, "min_threshold_m", "must be > 0");
@@ -151,7 +161,8 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
     // 1. Points: range gate, dynamic mask, base frame, voxel downsampling.
     const ScanPoints points =
         SelectScanPoints(scan_radar, static_mask, s.extrinsics.T_base_radar, config);
-    const Eigen::Matrix3Xd source_base = VoxelDownsample(points.p_base, config.scan_voxel_m);
+    const Eigen::Matrix3Xd source_base =
+        ThinColumns(VoxelDownsample(points.p_base, config.scan_voxel_m), config.max_source_points);
     result.source_points = static_cast<int>(source_base.cols());
     result.times.preprocess_ms = MillisecondsSince(t_start);
 
@@ -168,8 +179,10 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
     } else {
         // 2. Scan-to-map registration from the prior (PCL), then the checks.
         const auto t_reg = Clock::now();
+        const auto t_align = Clock::now();
         const PclAlignment aligned =
             AlignWithPcl(source_base, prior.T_world_base, s.map, config, result.threshold_m);
+        result.times.alignment_ms = MillisecondsSince(t_align);
         Association association = Associate(source_base, aligned.T_world_base, s.map, config,
                                             result.threshold_m, config.max_registration_residuals);
         result.correspondences = association.count;
@@ -240,6 +253,7 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
         (s.map.empty() || s.IsKeyframe(result.T_world_base))) {
         s.map.Update(result.T_world_base * points.p_base, result.T_world_base.translation());
         s.T_world_base_last_keyframe = result.T_world_base;
+        s.map.BuildIndex();  // the kd-tree is part of the map update's cost
         result.map_updated = true;
     }
     result.times.map_update_ms = MillisecondsSince(t_map);

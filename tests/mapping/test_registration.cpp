@@ -48,6 +48,8 @@ TEST_P(KnownTransform, IsRecovered) {
     config.use_doppler = false;  // the copy's Doppler is not consistent with any motion
     config.map.voxel_size_m = 0.2;
     config.scan_voxel_m = 0.3;
+    config.max_source_points = 3000;  // accuracy, not speed, is under test here
+    config.max_iterations = 50;
     Extrinsics extrinsics;
     extrinsics.T_base_radar = T_base_radar;
     RadarMapper mapper(config, extrinsics);

@@ -12,9 +12,9 @@
 namespace dorado::mapping {
 
 struct LocalMapConfig {
-    double voxel_size_m = 0.5;      ///< edge of the voxels that bound the map density
-    int max_points_per_voxel = 3;   ///< points kept per voxel (the first ones that arrive)
-    double max_distance_m = 100.0;  ///< voxels farther than this from the vehicle are dropped
+    double voxel_size_m = 1.0;     ///< edge of the voxels that bound the map density
+    int max_points_per_voxel = 2;  ///< points kept per voxel (the first ones that arrive)
+    double max_distance_m = 80.0;  ///< voxels farther than this from the vehicle are dropped
 
     /// Throws std::invalid_argument naming the first bad key.
     void Validate() const;
@@ -30,6 +30,9 @@ class LocalMap {
     /// Adds points (world frame) to the voxels that still have room, then drops the voxels farther
     /// than max_distance_m from position_world (the vehicle).
     void Update(const Eigen::Matrix3Xd &points_world, const Eigen::Vector3d &position_world);
+
+    /// Builds the search structures now (otherwise on the first query after an Update).
+    void BuildIndex() const;
 
     /// Every map point, in the world frame.
     [[nodiscard]] Eigen::Matrix3Xd Points() const;

@@ -26,7 +26,8 @@ struct MapperConfig {
     // Which points of a scan are used.
     double min_range_m = 1.0;
     double max_range_m = 100.0;
-    double scan_voxel_m = 0.6;  ///< voxel of the downsampled scan that is registered
+    double scan_voxel_m = 1.0;    ///< voxel of the downsampled scan that is registered
+    int max_source_points = 800;  ///< then evenly thinned to at most this many
 
     LocalMapConfig map;
     /// Add a scan to the map only when the vehicle moved this far / turned this much since the
@@ -37,7 +38,7 @@ struct MapperConfig {
 
     // PCL registration.
     RegistrationMethod method = RegistrationMethod::kPointToPoint;
-    int max_iterations = 20;
+    int max_iterations = 10;
     double initial_threshold_m = 2.0;
     double min_threshold_m = 0.5;
     double min_motion_m = 0.1;
@@ -51,10 +52,10 @@ struct MapperConfig {
     double plane_flatness = 0.1;  ///< GICP-style eigenvalue of a map neighbourhood's normal axis
     double doppler_sigma_mps = 0.15;
     bool use_doppler = true;
-    int max_registration_residuals = 600;
-    int max_doppler_residuals = 300;
-    int refine_max_iterations = 6;
-    int refine_outer_iterations = 2;  ///< re-associate and refine this many times
+    int max_registration_residuals = 250;
+    int max_doppler_residuals = 150;
+    int refine_max_iterations = 5;
+    int refine_outer_iterations = 1;  ///< re-associate and refine this many times
 
     // When registration is not trusted and the pose falls back to the prior.
     int min_correspondences = 40;
@@ -74,8 +75,9 @@ struct MapperConfig {
 struct StageTimes {
     double preprocess_ms = 0.0;    ///< range gate, mask, base frame, voxel downsample
     double registration_ms = 0.0;  ///< PCL alignment + data association + checks
+    double alignment_ms = 0.0;     ///< of which the PCL alignment alone
     double refinement_ms = 0.0;    ///< Ceres
-    double map_update_ms = 0.0;
+    double map_update_ms = 0.0;    ///< voxel map update + kd-tree rebuild
     double total_ms = 0.0;
 };
 
