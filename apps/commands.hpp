@@ -7,5 +7,8 @@
 namespace dorado::apps {
 
 void RegisterInfoCommand(CLI::App &app);
+void RegisterOdometryCommand(CLI::App &app);
+void RegisterCalibrateCommand(CLI::App &app);
+void RegisterSimulateCommand(CLI::App &app);
 
 }  // namespace dorado::apps
