@@ -32,8 +32,8 @@ struct MapperConfig {
     LocalMapConfig map;
     /// Add a scan to the map only when the vehicle moved this far / turned this much since the
     /// last map update (0 and 0: every scan).
-    double keyframe_distance_m = 0.0;
-    double keyframe_angle_deg = 0.0;
+    double keyframe_distance_m = 1.0;
+    double keyframe_angle_deg = 5.0;
     bool update_map_on_fallback = true;
 
     // PCL registration.
