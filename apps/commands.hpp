@@ -7,6 +7,7 @@
 namespace dorado::apps {
 
 void RegisterInfoCommand(CLI::App &app);
+void RegisterMapCommand(CLI::App &app);
 void RegisterOdometryCommand(CLI::App &app);
 void RegisterCalibrateCommand(CLI::App &app);
 void RegisterSimulateCommand(CLI::App &app);

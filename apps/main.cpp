@@ -16,6 +16,7 @@ int main(int argc, char **argv) {
     dorado::apps::RegisterOdometryCommand(app);
     dorado::apps::RegisterCalibrateCommand(app);
     dorado::apps::RegisterSimulateCommand(app);
+    dorado::apps::RegisterMapCommand(app);
     dorado::apps::RegisterEvalCommand(app);
     dorado::apps::RegisterBenchCommand(app);
 
