@@ -1,5 +1,6 @@
 // `dorado map DATASET --prior P --out DIR`: radar scan-to-map mapping with a motion prior (paper
 // section IV-C), the Doppler estimator's dynamic-point mask, and a Doppler-aware refinement.
+#include <limits>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -87,7 +88,7 @@ void RunMap(const MapOptions &opt) {
     if (wants_doppler) kinematics.emplace(dataset.extrinsics, dataset.vehicle);
     odometry::EgoVelocityEstimator estimator(ego_config);
     mapping::RadarMapper mapper(config.mapper, dataset.extrinsics);
-    mapping::LocalMap output_map({config.output_voxel_m, 1, 1e12});
+    mapping::LocalMap output_map({config.output_voxel_m, 1, std::numeric_limits<double>::infinity()});
     io::MakeDirectories(opt.out);
 
     std::size_t expected = 0;

@@ -1,5 +1,6 @@
 #include "map_image.hpp"
 
+#include <map>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -18,11 +19,24 @@ double Quantile(std::vector<double> v, double q) {
     return v[k];
 }
 
+/// The 256 colours of an OpenCV colormap, computed once per colormap (applyColorMap builds its
+/// table on every call: far too slow per point).
+const cv::Mat3b &ColormapTable(int colormap) {
+    static std::map<int, cv::Mat3b> tables;
+    auto it = tables.find(colormap);
+    if (it == tables.end()) {
+        cv::Mat1b ramp(256, 1);
+        for (int i = 0; i < 256; ++i) ramp(i, 0) = static_cast<uchar>(i);
+        cv::Mat3b table;
+        cv::applyColorMap(ramp, table, colormap);
+        it = tables.emplace(colormap, table).first;
+    }
+    return it->second;
+}
+
 cv::Vec3b ColourOf(double t, int colormap) {  // t in [0, 1]
-    cv::Mat1b in(1, 1, static_cast<uchar>(std::clamp(t, 0.0, 1.0) * 255.0));
-    cv::Mat3b out;
-    cv::applyColorMap(in, out, colormap);
-    return out(0, 0);
+    const double clamped = std::isfinite(t) ? std::clamp(t, 0.0, 1.0) : 0.0;
+    return ColormapTable(colormap)(static_cast<int>(clamped * 255.0), 0);
 }
 
 }  // namespace

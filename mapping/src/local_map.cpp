@@ -102,6 +102,10 @@ void LocalMap::Update(const Eigen::Matrix3Xd &points_world, const Eigen::Vector3
         cell.push_back(p);
         ++m.point_count;
     }
+    m.last_position_world = position_world;
+    m.dirty = true;
+    // An unbounded map (the whole-run output map) is never cropped: the crop walks every voxel.
+    if (!std::isfinite(m.config.max_distance_m)) return;
     // Crop: a voxel is kept while its first point is within max_distance_m of the vehicle.
     const double max_d2 = m.config.max_distance_m * m.config.max_distance_m;
     for (auto it = m.voxels.begin(); it != m.voxels.end();) {
@@ -112,8 +116,6 @@ void LocalMap::Update(const Eigen::Matrix3Xd &points_world, const Eigen::Vector3
             ++it;
         }
     }
-    m.last_position_world = position_world;
-    m.dirty = true;
 }
 
 Eigen::Matrix3Xd LocalMap::Points() const {
