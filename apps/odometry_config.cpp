@@ -1,12 +1,8 @@
 #include "odometry_config.hpp"
 
-#include <yaml-cpp/yaml.h>
-
-#include <map>
-#include <set>
 #include <stdexcept>
 
-#include "dorado/io/dataset_config.hpp"
+#include "dorado/io/yaml_section.hpp"
 
 namespace dorado::apps {
 namespace {
@@ -16,60 +12,7 @@ using odometry::PowerWeighting;
 using odometry::RobustMethod;
 using odometry::TrimMode;
 
-// One YAML mapping: typed reads that name the key on error, and a check for unknown keys.
-class Mapping {
-  public:
-    Mapping(const YAML::Node &node, std::string file, std::string prefix)
-        : node_(node), file_(std::move(file)), prefix_(std::move(prefix)) {
-        if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap()) Fail("", "must be a mapping");
-    }
-    [[noreturn]] void Fail(const std::string &key, const std::string &what) const {
-        const std::string full = key.empty() ? prefix_ : prefix_ + "." + key;
-        throw io::ConfigError(file_ + ": key '" + full + "': " + what);
-    }
-    template <typename T>
-    void Read(const std::string &key, T &value) {
-        known_.insert(key);
-        if (!node_.IsMap() || !node_[key].IsDefined() || node_[key].IsNull()) return;
-        try {
-            value = node_[key].as<T>();
-        } catch (const YAML::Exception &) {
-            Fail(key,
-                 "has the wrong type (line " + std::to_string(node_[key].Mark().line + 1) + ")");
-        }
-    }
-    template <typename E>
-    void ReadEnum(const std::string &key, E &value, const std::map<std::string, E> &names) {
-        std::string text;
-        Read(key, text);
-        if (text.empty()) return;
-        const auto it = names.find(text);
-        if (it == names.end()) {
-            std::string list;
-            for (const auto &[name, _] : names) list += (list.empty() ? "" : ", ") + name;
-            Fail(key, "'" + text + "' is not one of: " + list);
-        }
-        value = it->second;
-    }
-    YAML::Node Child(const std::string &key) {
-        known_.insert(key);
-        return node_.IsMap() ? node_[key] : YAML::Node();
-    }
-    void RejectUnknownKeys() const {
-        if (!node_.IsMap()) return;
-        for (const auto &entry : node_) {
-            const auto key = entry.first.as<std::string>();
-            if (!known_.count(key)) Fail(key, "unknown key");
-        }
-    }
-
-  private:
-    YAML::Node node_;
-    std::string file_, prefix_;
-    std::set<std::string> known_;
-};
-
-void ReadEgoVelocity(Mapping m, odometry::EgoVelocityConfig &c) {
+void ReadEgoVelocity(io::YamlSection m, odometry::EgoVelocityConfig &c) {
     m.Read("min_range_m", c.min_range_m);
     m.Read("max_range_m", c.max_range_m);
     m.Read("min_azimuth_deg", c.min_azimuth_deg);
@@ -126,23 +69,14 @@ odometry::RotationSource ParseRotationSource(const std::string &text, const std:
 }
 
 odometry::DopplerOdometryConfig LoadOdometryConfig(const std::string &yaml_path) {
-    YAML::Node root;
-    try {
-        root = YAML::LoadFile(yaml_path);
-    } catch (const YAML::BadFile &) {
-        throw io::ConfigError(yaml_path + ": cannot open the file");
-    } catch (const YAML::Exception &e) {
-        throw io::ConfigError(yaml_path + ": not valid YAML: " + e.what());
-    }
     odometry::DopplerOdometryConfig config;
-    Mapping top(root, yaml_path, "");
-    ReadEgoVelocity(Mapping(top.Child("ego_velocity"), yaml_path, "ego_velocity"),
-                    config.ego_velocity);
-    Mapping odo(top.Child("odometry"), yaml_path, "odometry");
-    std::string rotation;
-    odo.Read("rotation", rotation);
-    if (!rotation.empty())
-        config.rotation = ParseRotationSource(rotation, yaml_path + ": key 'odometry.rotation'");
+    io::YamlSection top(io::LoadYamlFile(yaml_path), yaml_path);
+    ReadEgoVelocity(top.Child("ego_velocity"), config.ego_velocity);
+    io::YamlSection odo = top.Child("odometry");
+    if (odo.Has("rotation")) {
+        config.rotation = ParseRotationSource(odo.Get<std::string>("rotation", ""),
+                                              yaml_path + ": key 'odometry.rotation'");
+    }
     odo.Read("zero_velocity_update", config.zero_velocity_update);
     odo.Read("max_angular_rate_radps", config.max_angular_rate_radps);
     odo.RejectUnknownKeys();

@@ -1,11 +1,10 @@
 #include "dorado/sim/sequence_config.hpp"
 
-#include <yaml-cpp/yaml.h>
-
 #include <cmath>
 #include <filesystem>
-#include <set>
 #include <vector>
+
+#include "dorado/io/yaml_section.hpp"
 
 namespace dorado::sim {
 
@@ -13,82 +12,17 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// One YAML mapping; remembers which keys were read so that a misspelled key is an error.
-class Section {
-  public:
-    Section(YAML::Node node, std::string file, std::string prefix)
-        : node_(std::move(node)), file_(std::move(file)), prefix_(std::move(prefix)) {
-        if (node_ && !node_.IsNull() && !node_.IsMap()) Fail("", "must be a mapping");
-    }
+using io::YamlSection;
 
-    [[noreturn]] void Fail(const std::string &key, const std::string &what) const {
-        const std::string full =
-            key.empty() ? (prefix_.empty() ? "(top level)" : prefix_) : Key(key);
-        throw SequenceConfigError(file_ + ": key '" + full + "': " + what);
-    }
-
-    template <typename T>
-    void Read(const std::string &key, T &value) {
-        known_.insert(key);
-        if (!node_ || !node_[key]) return;
-        try {
-            value = node_[key].as<T>();
-        } catch (const YAML::Exception &) {
-            Fail(key,
-                 "has the wrong type (line " + std::to_string(node_[key].Mark().line + 1) + ")");
-        }
-    }
-
-    void ReadVector3(const std::string &key, Eigen::Vector3d &value) {
-        std::vector<double> v{value.x(), value.y(), value.z()};
-        Read(key, v);
-        if (v.size() != 3) Fail(key, "must have 3 values");
-        value = Eigen::Vector3d(v[0], v[1], v[2]);
-    }
-
-    Section Child(const std::string &key) {
-        known_.insert(key);
-        return Section(node_ ? node_[key] : YAML::Node(), file_, Key(key));
-    }
-
-    void RejectUnknownKeys() const {
-        if (!node_ || !node_.IsMap()) return;
-        for (const auto &entry : node_) {
-            const auto key = entry.first.as<std::string>();
-            if (known_.count(key)) continue;
-            std::string list;
-            for (const auto &k : known_) list += (list.empty() ? "" : ", ") + k;
-            Fail(key, "unknown key; known keys here: " + list);
-        }
-    }
-
-  private:
-    [[nodiscard]] std::string Key(const std::string &key) const {
-        return prefix_.empty() ? key : prefix_ + "." + key;
-    }
-
-    YAML::Node node_;
-    std::string file_;
-    std::string prefix_;
-    std::set<std::string> known_;
-};
-
-void ReadMount(Section s, MountConfig &mount) {
+void ReadMount(YamlSection s, MountConfig &mount) {
     s.ReadVector3("translation_m", mount.translation_m);
     s.ReadVector3("rotation_rpy_deg", mount.rotation_rpy_deg);
     s.RejectUnknownKeys();
 }
 
-void ReadVehicle(Section s, VehicleConfig &v) {
-    std::string type = v.type == VehicleType::kSkidSteer ? "skid_steer" : "ackermann";
-    s.Read("type", type);
-    if (type == "skid_steer") {
-        v.type = VehicleType::kSkidSteer;
-    } else if (type == "ackermann") {
-        v.type = VehicleType::kAckermann;
-    } else {
-        s.Fail("type", "must be skid_steer or ackermann, got '" + type + "'");
-    }
+void ReadVehicle(YamlSection s, VehicleConfig &v) {
+    s.ReadEnum("type", v.type,
+               {{"skid_steer", VehicleType::kSkidSteer}, {"ackermann", VehicleType::kAckermann}});
     s.Read("half_wheelbase_m", v.half_wheelbase_m);
     s.Read("track_width_m", v.track_width_m);
     s.Read("wheel_radius_m", v.wheel_radius_m);
@@ -98,7 +32,7 @@ void ReadVehicle(Section s, VehicleConfig &v) {
     s.RejectUnknownKeys();
 }
 
-void ReadMotion(Section s, MotionConfig &m) {
+void ReadMotion(YamlSection s, MotionConfig &m) {
     s.Read("speed_mps", m.speed_mps);
     s.Read("speed_sigma_mps", m.speed_sigma_mps);
     s.Read("max_speed_mps", m.max_speed_mps);
@@ -114,7 +48,7 @@ void ReadMotion(Section s, MotionConfig &m) {
     s.RejectUnknownKeys();
 }
 
-void ReadTerrain(Section s, TerrainConfig &t) {
+void ReadTerrain(YamlSection s, TerrainConfig &t) {
     s.Read("hill_height_m", t.hill_height_m);
     s.Read("hill_wavelength_m", t.hill_wavelength_m);
     s.Read("side_slope_height_m", t.side_slope_height_m);
@@ -123,7 +57,7 @@ void ReadTerrain(Section s, TerrainConfig &t) {
     s.RejectUnknownKeys();
 }
 
-void ReadWorld(Section s, WorldConfig &w) {
+void ReadWorld(YamlSection s, WorldConfig &w) {
     s.Read("trees_per_1000m2", w.trees_per_1000m2);
     s.Read("poles_per_1000m2", w.poles_per_1000m2);
     s.Read("rocks_per_1000m2", w.rocks_per_1000m2);
@@ -137,7 +71,7 @@ void ReadWorld(Section s, WorldConfig &w) {
     s.RejectUnknownKeys();
 }
 
-void ReadDynamic(Section s, DynamicConfig &d) {
+void ReadDynamic(YamlSection s, DynamicConfig &d) {
     s.Read("people", d.people);
     s.Read("cyclists", d.cyclists);
     s.Read("cars", d.cars);
@@ -148,7 +82,7 @@ void ReadDynamic(Section s, DynamicConfig &d) {
     s.RejectUnknownKeys();
 }
 
-void ReadRadar(Section s, RadarConfig &r) {
+void ReadRadar(YamlSection s, RadarConfig &r) {
     ReadMount(s.Child("mount"), r.mount);
     s.Read("rate_hz", r.rate_hz);
     s.Read("azimuth_fov_deg", r.azimuth_fov_deg);
@@ -177,7 +111,7 @@ void ReadRadar(Section s, RadarConfig &r) {
     s.RejectUnknownKeys();
 }
 
-void ReadImu(Section s, ImuConfig &i) {
+void ReadImu(YamlSection s, ImuConfig &i) {
     ReadMount(s.Child("mount"), i.mount);
     s.Read("rate_hz", i.rate_hz);
     s.Read("gyro_noise_density", i.gyro_noise_density);
@@ -190,7 +124,7 @@ void ReadImu(Section s, ImuConfig &i) {
     s.RejectUnknownKeys();
 }
 
-void ReadGroundTruth(Section s, GroundTruthConfig &g) {
+void ReadGroundTruth(YamlSection s, GroundTruthConfig &g) {
     s.Read("rate_hz", g.rate_hz);
     s.Read("position_sigma_m", g.position_sigma_m);
     s.Read("rotation_sigma_deg", g.rotation_sigma_deg);
@@ -341,32 +275,28 @@ void SequenceConfig::Validate() const {
 }
 
 SequenceConfig LoadSequenceConfig(const std::string &yaml_path) {
-    YAML::Node root;
-    try {
-        root = YAML::LoadFile(yaml_path);
-    } catch (const YAML::BadFile &) {
-        throw SequenceConfigError(yaml_path + ": cannot open the sequence file");
-    } catch (const YAML::Exception &e) {
-        throw SequenceConfigError(yaml_path + ": not valid YAML: " + e.what());
-    }
     SequenceConfig config;
     config.source_path = yaml_path;
     config.name = fs::path(yaml_path).stem().string();
-    Section top(root, yaml_path, "");
-    top.Read("name", config.name);
-    top.Read("description", config.description);
-    top.Read("duration_s", config.duration_s);
-    top.Read("seed", config.seed);
-    top.Read("start_time_s", config.start_time_s);
-    ReadVehicle(top.Child("vehicle"), config.vehicle);
-    ReadMotion(top.Child("motion"), config.motion);
-    ReadTerrain(top.Child("terrain"), config.terrain);
-    ReadWorld(top.Child("world"), config.world);
-    ReadDynamic(top.Child("dynamic"), config.dynamic);
-    ReadRadar(top.Child("radar"), config.radar);
-    ReadImu(top.Child("imu"), config.imu);
-    ReadGroundTruth(top.Child("ground_truth"), config.ground_truth);
-    top.RejectUnknownKeys();
+    try {
+        YamlSection top(io::LoadYamlFile(yaml_path), yaml_path);
+        top.Read("name", config.name);
+        top.Read("description", config.description);
+        top.Read("duration_s", config.duration_s);
+        top.Read("seed", config.seed);
+        top.Read("start_time_s", config.start_time_s);
+        ReadVehicle(top.Child("vehicle"), config.vehicle);
+        ReadMotion(top.Child("motion"), config.motion);
+        ReadTerrain(top.Child("terrain"), config.terrain);
+        ReadWorld(top.Child("world"), config.world);
+        ReadDynamic(top.Child("dynamic"), config.dynamic);
+        ReadRadar(top.Child("radar"), config.radar);
+        ReadImu(top.Child("imu"), config.imu);
+        ReadGroundTruth(top.Child("ground_truth"), config.ground_truth);
+        top.RejectUnknownKeys();
+    } catch (const io::ConfigError &e) {
+        throw SequenceConfigError(e.what());  // dorado_sim's own error type, same message
+    }
     config.Validate();
     return config;
 }
