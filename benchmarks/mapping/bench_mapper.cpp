@@ -36,8 +36,8 @@ const Sequence &GetSequence() {
         for (const auto &t : s.truth) {
             PointMask mask;
             s.scans.push_back(SimulateScan(world, t.T_world_base, s.extrinsics.T_base_radar,
-                                           t.v_base, t.omega_base, Eigen::Matrix3Xd(3, 0), {}, sim,
-                                           rng, &mask));
+                                           t.v_base, t.omega_base, Eigen::Matrix3Xd(3, 0),
+                                           Eigen::Vector3d::Zero(), sim, rng, &mask));
             s.masks.push_back(mask);
         }
         return s;

@@ -165,15 +165,16 @@ TEST(RadarMapper, OneWallFallsBackToThePrior) {
     const Eigen::Matrix3Xd none(3, 0);
     const Eigen::Vector3d v(0.0, 3.0, 0.0);  // sliding along the wall
     const RadarScan first =
-        SimulateScan(world, Eigen::Isometry3d::Identity(), extrinsics.T_base_radar, v, {}, none, {},
-                     sim, rng, nullptr);
+        SimulateScan(world, Eigen::Isometry3d::Identity(), extrinsics.T_base_radar, v,
+                     Eigen::Vector3d::Zero(), none, Eigen::Vector3d::Zero(), sim, rng, nullptr);
     MotionPrior prior;
     prior.covariance = Matrix6d::Identity() * 0.01;
     ASSERT_TRUE(mapper.Register(first, prior, 0.1).first_scan);
 
     const Eigen::Isometry3d T_true(Eigen::Translation3d(0.0, 0.3, 0.0));
     const RadarScan second =
-        SimulateScan(world, T_true, extrinsics.T_base_radar, v, {}, none, {}, sim, rng, nullptr);
+        SimulateScan(world, T_true, extrinsics.T_base_radar, v, Eigen::Vector3d::Zero(), none,
+                     Eigen::Vector3d::Zero(), sim, rng, nullptr);
     prior.T_world_base = Eigen::Isometry3d(Eigen::Translation3d(0.01, 0.25, 0.0));
     const RegistrationResult r = mapper.Register(second, prior, 0.1);
     EXPECT_TRUE(r.fallback);

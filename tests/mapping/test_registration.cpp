@@ -28,8 +28,9 @@ TEST_P(KnownTransform, IsRecovered) {
     const Eigen::Isometry3d T_base_radar = Eigen::Isometry3d(Eigen::Translation3d(1.5, 0.0, 1.0));
     Eigen::Array<bool, Eigen::Dynamic, 1> labels;
     const Eigen::Matrix3Xd no_movers(3, 0);
-    const RadarScan first = SimulateScan(world, Eigen::Isometry3d::Identity(), T_base_radar, {}, {},
-                                         no_movers, {}, sim, rng, &labels);
+    const RadarScan first = SimulateScan(world, Eigen::Isometry3d::Identity(), T_base_radar,
+                                         Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                         no_movers, Eigen::Vector3d::Zero(), sim, rng, &labels);
 
     // The copy: the same first scan's points seen from the known pose, plus 3 cm noise.
     Vector6d xi;
