@@ -1,11 +1,11 @@
 // `dorado map DATASET --prior P --out DIR`: radar scan-to-map mapping with a motion prior (paper
 // section IV-C), the Doppler estimator's dynamic-point mask, and a Doppler-aware refinement.
-#include <limits>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -23,6 +23,7 @@
 #include "map_image.hpp"
 #include "odometry_config.hpp"
 #include "progress.hpp"
+#include "skip_log.hpp"
 
 namespace dorado::apps {
 namespace {
@@ -88,7 +89,8 @@ void RunMap(const MapOptions &opt) {
     if (wants_doppler) kinematics.emplace(dataset.extrinsics, dataset.vehicle);
     odometry::EgoVelocityEstimator estimator(ego_config);
     mapping::RadarMapper mapper(config.mapper, dataset.extrinsics);
-    mapping::LocalMap output_map({config.output_voxel_m, 1, std::numeric_limits<double>::infinity()});
+    mapping::LocalMap output_map(
+        {config.output_voxel_m, 1, std::numeric_limits<double>::infinity()});
     io::MakeDirectories(opt.out);
 
     std::size_t expected = 0;
@@ -104,8 +106,8 @@ void RunMap(const MapOptions &opt) {
     std::ostringstream csv;
     csv << "t,time_doppler_ms,time_preprocess_ms,time_registration_ms,time_refinement_ms,"
            "time_map_update_ms,time_total_ms,correspondences,fitness,fallback,fallback_reason\n";
-    std::map<std::string, int> skip_reasons, fallback_reasons, prior_substitutions;
-    nlohmann::json skipped = nlohmann::json::array();
+    std::map<std::string, int> fallback_reasons, prior_substitutions;
+    SkipLog skips;
     std::vector<double> total_ms;
     std::size_t scans = 0, registered = 0, unmasked = 0;
     int64_t last_stamp = 0;
@@ -115,10 +117,7 @@ void RunMap(const MapOptions &opt) {
         if (event.kind == io::DatasetEvent::Kind::kImu) imu.push_back(event.imu);
         if (event.kind == io::DatasetEvent::Kind::kBadScan) {
             ++scans;
-            skip_reasons["unreadable scan"]++;
-            skipped.push_back({{"scan", event.scan_index}, {"reason", event.problem}});
-            std::cerr << "dorado: warning: scan " << event.scan_index << ": " << event.problem
-                      << "\n";
+            skips.Add(event.scan_index, "unreadable scan", event.problem);
         }
         if (event.kind != io::DatasetEvent::Kind::kRadarScan) continue;
         ++scans;
@@ -126,11 +125,8 @@ void RunMap(const MapOptions &opt) {
         const RadarScan &scan = event.scan;
         const bool first = trajectory.empty();
         if (!first && scan.stamp_ns <= last_stamp) {
-            skip_reasons["timestamp out of order"]++;
-            skipped.push_back(
-                {{"scan", event.scan_index}, {"reason", "timestamp not after the previous scan"}});
-            std::cerr << "dorado: warning: scan " << event.scan_index
-                      << ": timestamp not after the previous scan\n";
+            skips.Add(event.scan_index, "timestamp out of order",
+                      "timestamp not after the previous scan");
             continue;
         }
         const auto t_start = std::chrono::steady_clock::now();
@@ -253,8 +249,8 @@ void RunMap(const MapOptions &opt) {
         {"scans", scans},
         {"scans_registered", registered},
         {"scans_skipped", scans - registered},
-        {"skip_reasons", skip_reasons},
-        {"skipped", skipped},
+        {"skip_reasons", skips.Counts()},
+        {"skipped", skips.Scans()},
         {"fallbacks", mapper.fallbacks()},
         {"fallback_reasons", fallback_reasons},
         {"prior_substitutions_constvel", prior_substitutions},

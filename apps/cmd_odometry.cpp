@@ -17,6 +17,7 @@
 #include "dorado/odometry/doppler_odometry.hpp"
 #include "odometry_config.hpp"
 #include "progress.hpp"
+#include "skip_log.hpp"
 
 namespace dorado::apps {
 namespace {
@@ -137,8 +138,8 @@ void RunOdometry(const OdometryOptions &opt) {
     GyroWindow gyro(dataset.extrinsics.T_base_imu.linear());
     std::string csv = kCsvHeader;
     std::vector<double> times_ms, inlier_ratios;
-    std::map<std::string, int> skip_reasons, invalid_reasons;
-    nlohmann::json skipped = nlohmann::json::array();
+    std::map<std::string, int> invalid_reasons;
+    SkipLog skips;
     std::size_t scans = 0, used = 0, fallbacks = 0;
     int64_t last_stamp = 0;
     bool has_last = false;
@@ -147,10 +148,7 @@ void RunOdometry(const OdometryOptions &opt) {
         if (event.kind == io::DatasetEvent::Kind::kImu) gyro.Add(event.imu);
         if (event.kind == io::DatasetEvent::Kind::kBadScan) {
             ++scans;
-            skip_reasons["unreadable scan"]++;
-            skipped.push_back({{"scan", event.scan_index}, {"reason", event.problem}});
-            std::cerr << "dorado: warning: scan " << event.scan_index << ": " << event.problem
-                      << "\n";
+            skips.Add(event.scan_index, "unreadable scan", event.problem);
         }
         if (event.kind != io::DatasetEvent::Kind::kRadarScan) continue;
         ++scans;
@@ -163,10 +161,7 @@ void RunOdometry(const OdometryOptions &opt) {
                 .count();
         progress.Update(scans);
         if (!step.integrated) {
-            skip_reasons["timestamp out of order"]++;
-            skipped.push_back({{"scan", event.scan_index}, {"reason", step.skip_reason}});
-            std::cerr << "dorado: warning: scan " << event.scan_index << ": " << step.skip_reason
-                      << "\n";
+            skips.Add(event.scan_index, "timestamp out of order", step.skip_reason);
             continue;
         }
         has_last = true;
@@ -197,8 +192,8 @@ void RunOdometry(const OdometryOptions &opt) {
                               {"scans", scans},
                               {"scans_used", used},
                               {"scans_skipped", scans - used},
-                              {"skip_reasons", skip_reasons},
-                              {"skipped", skipped},
+                              {"skip_reasons", skips.Counts()},
+                              {"skipped", skips.Scans()},
                               {"scans_with_fallback_twist", fallbacks},
                               {"invalid_velocity_reasons", invalid_reasons},
                               {"inlier_ratio", Stats(inlier_ratios)},

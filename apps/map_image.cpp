@@ -1,9 +1,9 @@
 #include "map_image.hpp"
 
-#include <map>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>

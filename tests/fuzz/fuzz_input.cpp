@@ -9,8 +9,9 @@ namespace dorado::fuzz {
 
 std::string WriteTempFile(const std::string &name, const std::string &text) {
     static const std::filesystem::path dir = [] {
-        const auto base = std::filesystem::exists("/dev/shm") ? std::filesystem::path("/dev/shm")
-                                                              : std::filesystem::temp_directory_path();
+        const auto base = std::filesystem::exists("/dev/shm")
+                              ? std::filesystem::path("/dev/shm")
+                              : std::filesystem::temp_directory_path();
         auto d = base / ("dorado_fuzz_" + std::to_string(::getpid()));
         std::filesystem::create_directories(d);
         return d;

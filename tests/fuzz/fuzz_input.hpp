@@ -8,7 +8,7 @@
 namespace dorado::fuzz {
 
 class Input {
-public:
+  public:
     Input(const uint8_t *data, size_t size) : data_(data), size_(size) {}
 
     template <typename T>
@@ -21,9 +21,11 @@ public:
     }
 
     std::vector<uint8_t> Rest() const { return {data_ + pos_, data_ + size_}; }
-    std::string RestAsString() const { return {reinterpret_cast<const char *>(data_ + pos_), size_ - pos_}; }
+    std::string RestAsString() const {
+        return {reinterpret_cast<const char *>(data_ + pos_), size_ - pos_};
+    }
 
-private:
+  private:
     const uint8_t *data_;
     size_t size_;
     size_t pos_ = 0;

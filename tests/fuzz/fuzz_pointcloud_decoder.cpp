@@ -13,10 +13,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     view.point_step = in.Take<uint8_t>();
     view.row_step = in.Take<uint16_t>();
     view.is_bigendian = in.Take<uint8_t>() & 1;
-    static const char *kNames[] = {"x", "y", "z", "range", "azimuth", "elevation", "power", "doppler", "other"};
+    static const char *kNames[] = {"x",         "y",     "z",       "range", "azimuth",
+                                   "elevation", "power", "doppler", "other"};
     const int fields = in.Take<uint8_t>() % 10;
     for (int f = 0; f < fields; ++f) {
-        view.fields.push_back({kNames[in.Take<uint8_t>() % 9], in.Take<uint8_t>(), static_cast<uint8_t>(in.Take<uint8_t>() % 10),
+        view.fields.push_back({kNames[in.Take<uint8_t>() % 9], in.Take<uint8_t>(),
+                               static_cast<uint8_t>(in.Take<uint8_t>() % 10),
                                static_cast<uint32_t>(in.Take<uint8_t>() % 3)});
     }
     const std::vector<uint8_t> rest = in.Rest();

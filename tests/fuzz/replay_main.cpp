@@ -14,13 +14,15 @@ int main(int argc, char **argv) {
     for (int a = 1; a < argc; ++a) {
         std::vector<std::filesystem::path> files;
         if (std::filesystem::is_directory(argv[a])) {
-            for (const auto &e : std::filesystem::directory_iterator(argv[a])) files.push_back(e.path());
+            for (const auto &e : std::filesystem::directory_iterator(argv[a]))
+                files.push_back(e.path());
         } else {
             files.emplace_back(argv[a]);
         }
         for (const auto &f : files) {
             std::ifstream in(f, std::ios::binary);
-            const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                             std::istreambuf_iterator<char>());
             LLVMFuzzerTestOneInput(bytes.data(), bytes.size());
             ++inputs;
         }

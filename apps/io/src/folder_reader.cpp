@@ -90,8 +90,10 @@ class FolderReader final : public DatasetReader {
     RadarScan ReadBin(const std::string &file) const {
         std::ifstream in(file, std::ios::binary);
         if (!in) throw DecodeError("cannot open");
-        const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        return DecodeFloat32Columns(bytes.data(), bytes.size(), config_.folder.columns, config_.fields);
+        const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                         std::istreambuf_iterator<char>());
+        return DecodeFloat32Columns(bytes.data(), bytes.size(), config_.folder.columns,
+                                    config_.fields);
     }
 
     RadarScan ReadPcd(const std::string &file) const {

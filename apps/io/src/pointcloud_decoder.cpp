@@ -185,7 +185,7 @@ RadarScan DecodePointCloud(const CloudBufferView &cloud, const FieldMap &map) {
 }
 
 RadarScan DecodeFloat32Columns(const uint8_t *data, std::size_t size,
-                                const std::vector<std::string> &columns, const FieldMap &map) {
+                               const std::vector<std::string> &columns, const FieldMap &map) {
     if (columns.empty()) throw DecodeError("no columns given for the float32 scan file");
     const std::size_t point_step = 4 * columns.size();
     if (size % point_step != 0) {
@@ -199,7 +199,8 @@ RadarScan DecodeFloat32Columns(const uint8_t *data, std::size_t size,
     view.data = data;
     view.data_size = size;
     for (std::size_t k = 0; k < columns.size(); ++k) {
-        if (columns[k] != "_") view.fields.push_back({columns[k], static_cast<uint32_t>(4 * k), 7, 1});
+        if (columns[k] != "_")
+            view.fields.push_back({columns[k], static_cast<uint32_t>(4 * k), 7, 1});
     }
     return DecodePointCloud(view, map);
 }

@@ -14,7 +14,8 @@ namespace dorado::mapping {
 struct LocalMapConfig {
     double voxel_size_m = 1.0;     ///< edge of the voxels that bound the map density
     int max_points_per_voxel = 2;  ///< points kept per voxel (the first ones that arrive)
-    double max_distance_m = 80.0;  ///< voxels farther than this from the vehicle are dropped (infinity: never)
+    double max_distance_m =
+        80.0;  ///< voxels farther than this from the vehicle are dropped (infinity: never)
 
     /// Throws std::invalid_argument naming the first bad key.
     void Validate() const;
