@@ -7,6 +7,10 @@
 namespace dorado::apps {
 
 void RegisterInfoCommand(CLI::App &app);
+void RegisterMapCommand(CLI::App &app);
+void RegisterOdometryCommand(CLI::App &app);
+void RegisterCalibrateCommand(CLI::App &app);
+void RegisterSimulateCommand(CLI::App &app);
 void RegisterEvalCommand(CLI::App &app);
 void RegisterBenchCommand(CLI::App &app);
 

@@ -13,6 +13,10 @@ int main(int argc, char **argv) {
     app.set_version_flag("--version", "dorado 0.1.0");
 
     dorado::apps::RegisterInfoCommand(app);
+    dorado::apps::RegisterOdometryCommand(app);
+    dorado::apps::RegisterCalibrateCommand(app);
+    dorado::apps::RegisterSimulateCommand(app);
+    dorado::apps::RegisterMapCommand(app);
     dorado::apps::RegisterEvalCommand(app);
     dorado::apps::RegisterBenchCommand(app);
 

@@ -105,6 +105,39 @@ def write(path, make_cloud, topic="/hugin_raf_1/radar_data", extras=True, nan_sc
                 bag.write("/ground_truth/pose", pose, t)
 
 
+def many_chunks(path, scans=40, points=200):
+    """Small chunks so that damage stays local to a few messages."""
+    with rosbag.Bag(path, "w", chunk_threshold=4096) as bag:
+        for k in range(scans):
+            msg = PointCloud2()
+            msg.header.stamp = stamp(k)
+            msg.header.frame_id = "radar"
+            msg.height, msg.width = 1, points
+            names = ["x", "y", "z", "range", "elevation", "azimuth", "power", "doppler"]
+            msg.fields = [PointField(n, 4 * j, PointField.FLOAT32, 1) for j, n in enumerate(names)]
+            msg.point_step, msg.row_step = 32, 32 * points
+            msg.data = b"".join(struct.pack("<8f", *expected_point(k, i)) for i in range(points))
+            bag.write("/hugin_raf_1/radar_data", msg, stamp(k))
+            imu = Imu()
+            imu.header.stamp = stamp(k)
+            bag.write("/imu/data", imu, stamp(k))
+
+
+def lying_clouds(path):
+    """Scan 1: point_step smaller than the fields; scan 2: fewer bytes than width says; scan 3: all NaN."""
+    with rosbag.Bag(path, "w") as bag:
+        for k in range(5):
+            msg = hugin_cloud(k)
+            if k == 1:
+                msg.point_step = 16
+            elif k == 2:
+                msg.width = N_POINTS + 5
+                msg.row_step = 32 * msg.width
+            elif k == 3:
+                msg.data = struct.pack("<f", float("nan")) * (8 * N_POINTS)
+            bag.write("/hugin_raf_1/radar_data", msg, stamp(k))
+
+
 def main():
     out = sys.argv[1]
     os.makedirs(out, exist_ok=True)
@@ -113,6 +146,8 @@ def main():
     write(os.path.join(out, "float64.bag"), float64_cloud, topic="/radar/points", extras=False)
     write(os.path.join(out, "channels.bag"), channel_cloud, topic="/radar/cloud", extras=False)
     write(os.path.join(out, "faults.bag"), hugin_cloud, extras=False, nan_scan=2, backwards=True)
+    many_chunks(os.path.join(out, "many_chunks.bag"))
+    lying_clouds(os.path.join(out, "lies.bag"))
     data = open(os.path.join(out, "hugin.bag"), "rb").read()
     with open(os.path.join(out, "truncated.bag"), "wb") as f:
         f.write(data[: len(data) // 2])

@@ -125,22 +125,33 @@ class BagReader final : public DatasetReader {
             if (!first_ && it_ != view_->end()) ++it_;
             first_ = false;
             if (it_ == view_->end()) return Finish();
-            Convert(*it_, event);
-            return true;
-        } catch (const DatasetError &) {
-            throw;
         } catch (const std::exception &e) {
-            // The bag's data is unreadable from here on (truncated or corrupt chunk): report it and
-            // end the stream so that what was read so far is still used.
+            // The index itself is unusable from here on: report it and end the stream so that what
+            // was read so far is still used.
             event = DatasetEvent{};
             event.kind = DatasetEvent::Kind::kBadScan;
             event.scan_index = radar_count_;
-            event.problem = config_.rosbag.path + ": bag data unreadable after " +
+            event.problem = config_.rosbag.path + ": bag index unreadable after " +
                             std::to_string(radar_count_) + " radar messages (" + e.what() +
                             "); stopping the stream here";
             finished_ = true;
             return true;
         }
+        const std::size_t message_index = message_count_++;
+        try {
+            Convert(*it_, event);
+        } catch (const DatasetError &) {
+            throw;
+        } catch (const std::exception &e) {
+            // One message whose chunk or bytes are damaged: skip it, keep going.
+            const bool radar = event.kind == DatasetEvent::Kind::kRadarScan;
+            event = DatasetEvent{};
+            event.kind = DatasetEvent::Kind::kBadScan;
+            event.scan_index = radar ? radar_count_ - 1 : radar_count_;
+            event.problem = config_.rosbag.path + ": message " + std::to_string(message_index) +
+                            " on " + it_->getTopic() + " unreadable: " + e.what();
+        }
+        return true;
     }
 
     [[nodiscard]] std::string source() const override { return config_.rosbag.path; }
@@ -188,6 +199,7 @@ class BagReader final : public DatasetReader {
         const std::string &topic = m.getTopic();
         const std::string &type = m.getDataType();
         if (topic == config_.rosbag.radar_topic) {
+            event.kind = DatasetEvent::Kind::kRadarScan;
             event.scan_index = radar_count_++;
             ConvertRadar(m, type, event);
         } else if (topic == config_.rosbag.imu_topic) {
@@ -251,6 +263,7 @@ class BagReader final : public DatasetReader {
     bool first_ = true;
     bool finished_ = false;
     std::size_t radar_count_ = 0;
+    std::size_t message_count_ = 0;
 };
 
 }  // namespace

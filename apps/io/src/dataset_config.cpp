@@ -4,8 +4,8 @@
 
 #include <cmath>
 #include <filesystem>
-#include <set>
-#include <sstream>
+
+#include "dorado/io/yaml_section.hpp"
 
 namespace dorado::io {
 
@@ -13,143 +13,44 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// Reads one YAML mapping, remembering which keys were used so that misspelled keys are errors.
-class Section {
-  public:
-    Section(const YAML::Node &node, std::string file, std::string prefix)
-        : node_(node), file_(std::move(file)), prefix_(std::move(prefix)) {
-        // Absent and empty ("key:") sections mean "all defaults".
-        present_ = node_.IsDefined() && !node_.IsNull();
-        if (present_ && !node_.IsMap())
-            Fail(prefix_.empty() ? "(top level)" : prefix_, "must be a mapping");
-    }
-
-    [[noreturn]] void Fail(const std::string &key, const std::string &what) const {
-        throw ConfigError(file_ + ": key '" + key + "': " + what);
-    }
-
-    const std::string &Prefix() const { return prefix_; }
-
-    std::string Key(const std::string &key) const {
-        return prefix_.empty() ? key : prefix_ + "." + key;
-    }
-
-    bool Has(const std::string &key) {
-        known_.insert(key);
-        return present_ && node_[key].IsDefined() && !node_[key].IsNull();
-    }
-
-    template <typename T>
-    T Get(const std::string &key, const T &fallback) {
-        if (!Has(key)) return fallback;
-        try {
-            return node_[key].as<T>();
-        } catch (const YAML::Exception &) {
-            Fail(Key(key),
-                 "has the wrong type (line " + std::to_string(node_[key].Mark().line + 1) + ")");
-        }
-    }
-
-    double GetPositive(const std::string &key, double fallback) {
-        const double v = Get<double>(key, fallback);
-        if (!(std::isfinite(v) && v > 0.0))
-            Fail(Key(key), "must be a positive number, got " + std::to_string(v));
-        return v;
-    }
-
-    Section Child(const std::string &key) {
-        known_.insert(key);
-        return Section(present_ ? node_[key] : YAML::Node(YAML::NodeType::Undefined), file_,
-                       Key(key));
-    }
-
-    /// Every key of the mapping must have been asked for.
-    void RejectUnknownKeys() const {
-        if (!present_) return;
-        for (const auto &entry : node_) {
-            const std::string key = entry.first.as<std::string>();
-            if (known_.count(key)) continue;
-            std::string hint;
-            for (const auto &k : known_) {
-                if (EditDistance(k, key) <= 2) hint = " (did you mean '" + k + "'?)";
-            }
-            Fail(Key(key), "unknown key" + hint + "; known keys: " + KnownList());
-        }
-    }
-
-  private:
-    static std::size_t EditDistance(const std::string &a, const std::string &b) {
-        std::vector<std::size_t> row(b.size() + 1);
-        for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-        for (std::size_t i = 1; i <= a.size(); ++i) {
-            std::size_t diagonal = row[0];
-            row[0] = i;
-            for (std::size_t j = 1; j <= b.size(); ++j) {
-                const std::size_t up = row[j];
-                row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
-                diagonal = up;
-            }
-        }
-        return row[b.size()];
-    }
-
-    std::string KnownList() const {
-        std::string list;
-        for (const auto &k : known_) list += (list.empty() ? "" : ", ") + k;
-        return list;
-    }
-
-    const YAML::Node node_;
-    bool present_ = false;
-    std::string file_;
-    std::string prefix_;
-    std::set<std::string> known_;
-};
-
 std::string ResolvePath(const std::string &path, const fs::path &base_dir) {
     if (path.empty() || fs::path(path).is_absolute()) return path;
     return (base_dir / path).lexically_normal().string();
 }
 
-Eigen::Isometry3d ReadTransform(Section section) {
+Eigen::Isometry3d ReadTransform(YamlSection section) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    const auto t = section.Get<std::vector<double>>("translation_m", {0.0, 0.0, 0.0});
-    if (t.size() != 3) section.Fail(section.Key("translation_m"), "must have 3 values");
-    T.translation() << t[0], t[1], t[2];
+    Eigen::Vector3d t = Eigen::Vector3d::Zero();
+    section.ReadVector3("translation_m", t);
+    T.translation() = t;
     const bool has_rpy = section.Has("rotation_rpy_deg");
     const bool has_q = section.Has("quaternion_xyzw");
-    if (has_rpy && has_q) {
-        section.Fail(section.Key("rotation_rpy_deg"),
+    if (has_rpy && has_q)
+        section.Fail("rotation_rpy_deg",
                      "give either rotation_rpy_deg or quaternion_xyzw, not both");
-    }
     if (has_rpy) {
-        const auto rpy = section.Get<std::vector<double>>("rotation_rpy_deg", {});
-        if (rpy.size() != 3) section.Fail(section.Key("rotation_rpy_deg"), "must have 3 values");
-        const double k = M_PI / 180.0;
+        Eigen::Vector3d rpy = Eigen::Vector3d::Zero();
+        section.ReadVector3("rotation_rpy_deg", rpy);
+        rpy *= M_PI / 180.0;
         // R = Rz(yaw) Ry(pitch) Rx(roll)
-        T.linear() = (Eigen::AngleAxisd(rpy[2] * k, Eigen::Vector3d::UnitZ()) *
-                      Eigen::AngleAxisd(rpy[1] * k, Eigen::Vector3d::UnitY()) *
-                      Eigen::AngleAxisd(rpy[0] * k, Eigen::Vector3d::UnitX()))
+        T.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
+                      Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+                      Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
                          .toRotationMatrix();
     }
     if (has_q) {
         const auto q = section.Get<std::vector<double>>("quaternion_xyzw", {});
-        if (q.size() != 4) section.Fail(section.Key("quaternion_xyzw"), "must have 4 values");
+        if (q.size() != 4) section.Fail("quaternion_xyzw", "must have 4 values");
         const Eigen::Quaterniond quat(q[3], q[0], q[1], q[2]);
-        if (std::abs(quat.norm() - 1.0) > 1e-3)
-            section.Fail(section.Key("quaternion_xyzw"), "must have norm 1");
+        if (std::abs(quat.norm() - 1.0) > 1e-3) section.Fail("quaternion_xyzw", "must have norm 1");
         T.linear() = quat.normalized().toRotationMatrix();
     }
-    if (!T.matrix().allFinite()) section.Fail(section.Prefix(), "is not finite");
+    if (!T.matrix().allFinite()) section.Fail("", "is not finite");
     section.RejectUnknownKeys();
     return T;
 }
 
-}  // namespace
-
-namespace {
-
-FieldMap ReadFieldMap(Section section) {
+FieldMap ReadFieldMap(YamlSection section) {
     FieldMap map;
     map.x = section.Get<std::string>("x", map.x);
     map.y = section.Get<std::string>("y", map.y);
@@ -161,22 +62,13 @@ FieldMap ReadFieldMap(Section section) {
     map.doppler = section.Get<std::string>("doppler", map.doppler);
     map.doppler_sign = section.Get<double>("doppler_sign", map.doppler_sign);
     if (map.doppler_sign != 1.0 && map.doppler_sign != -1.0) {
-        section.Fail(section.Key("doppler_sign"), "must be 1 or -1");
+        section.Fail("doppler_sign", "must be 1 or -1");
     }
     for (const auto *required : {&map.x, &map.y, &map.z, &map.doppler}) {
-        if (required->empty())
-            section.Fail(section.Prefix(), "x, y, z and doppler need a field name");
+        if (required->empty()) section.Fail("", "x, y, z and doppler need a field name");
     }
     section.RejectUnknownKeys();
     return map;
-}
-
-TrajectoryFormat ParseFormat(Section &section, const std::string &key) {
-    const auto text = section.Get<std::string>(key, "tum");
-    if (text == "tum") return TrajectoryFormat::kTum;
-    if (text == "kitti") return TrajectoryFormat::kKitti;
-    if (text == "paper_csv") return TrajectoryFormat::kPaperCsv;
-    section.Fail(section.Key(key), "must be tum, kitti or paper_csv, got '" + text + "'");
 }
 
 const char *FormatName(TrajectoryFormat format) {
@@ -194,30 +86,16 @@ const char *FormatName(TrajectoryFormat format) {
 }  // namespace
 
 DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
-    YAML::Node root;
-    try {
-        root = YAML::LoadFile(yaml_path);
-    } catch (const YAML::BadFile &) {
-        throw ConfigError(yaml_path + ": cannot open");
-    } catch (const YAML::Exception &e) {
-        throw ConfigError(yaml_path + ": not valid YAML: " + e.what());
-    }
     const fs::path base_dir = fs::absolute(yaml_path).parent_path();
-    Section top(root, yaml_path, "");
+    YamlSection top(LoadYamlFile(yaml_path), yaml_path);
     DatasetConfig config;
     config.config_path = yaml_path;
     config.name = top.Get<std::string>("name", fs::path(yaml_path).stem().string());
 
-    const auto reader = top.Get<std::string>("reader", "rosbag");
-    if (reader == "rosbag") {
-        config.reader = ReaderKind::kRosbag;
-    } else if (reader == "folder") {
-        config.reader = ReaderKind::kFolder;
-    } else {
-        top.Fail("reader", "must be rosbag or folder, got '" + reader + "'");
-    }
+    top.ReadEnum("reader", config.reader,
+                 {{"rosbag", ReaderKind::kRosbag}, {"folder", ReaderKind::kFolder}});
 
-    Section rosbag = top.Child("rosbag");
+    YamlSection rosbag = top.Child("rosbag");
     config.rosbag.path = ResolvePath(rosbag.Get<std::string>("path", ""), base_dir);
     config.rosbag.radar_topic = rosbag.Get<std::string>("radar_topic", config.rosbag.radar_topic);
     config.rosbag.imu_topic = rosbag.Get<std::string>("imu_topic", "");
@@ -228,7 +106,7 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
         if (config.rosbag.radar_topic.empty()) top.Fail("rosbag.radar_topic", "must not be empty");
     }
 
-    Section folder = top.Child("folder");
+    YamlSection folder = top.Child("folder");
     config.folder.scans_dir = ResolvePath(folder.Get<std::string>("scans_dir", ""), base_dir);
     config.folder.extension = folder.Get<std::string>("extension", config.folder.extension);
     config.folder.timestamps_file =
@@ -250,9 +128,12 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
 
     config.fields = ReadFieldMap(top.Child("fields"));
 
-    Section gt = top.Child("ground_truth");
+    YamlSection gt = top.Child("ground_truth");
     config.ground_truth.path = ResolvePath(gt.Get<std::string>("path", ""), base_dir);
-    config.ground_truth.format = ParseFormat(gt, "format");
+    gt.ReadEnum("format", config.ground_truth.format,
+                {{"tum", TrajectoryFormat::kTum},
+                 {"kitti", TrajectoryFormat::kKitti},
+                 {"paper_csv", TrajectoryFormat::kPaperCsv}});
     config.ground_truth.kitti_times_path =
         ResolvePath(gt.Get<std::string>("kitti_times", ""), base_dir);
     gt.RejectUnknownKeys();
@@ -261,12 +142,12 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
         top.Fail("ground_truth.kitti_times", "is required for format: kitti");
     }
 
-    Section extrinsics = top.Child("extrinsics");
+    YamlSection extrinsics = top.Child("extrinsics");
     config.extrinsics.T_base_radar = ReadTransform(extrinsics.Child("T_base_radar"));
     config.extrinsics.T_base_imu = ReadTransform(extrinsics.Child("T_base_imu"));
     extrinsics.RejectUnknownKeys();
 
-    Section vehicle = top.Child("vehicle");
+    YamlSection vehicle = top.Child("vehicle");
     config.vehicle.half_wheelbase_m =
         vehicle.GetPositive("half_wheelbase_m", config.vehicle.half_wheelbase_m);
     vehicle.RejectUnknownKeys();

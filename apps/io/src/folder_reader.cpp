@@ -88,28 +88,10 @@ class FolderReader final : public DatasetReader {
 
   private:
     RadarScan ReadBin(const std::string &file) const {
-        const auto &columns = config_.folder.columns;
         std::ifstream in(file, std::ios::binary);
         if (!in) throw DecodeError("cannot open");
-        std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                   std::istreambuf_iterator<char>());
-        const std::size_t point_step = 4 * columns.size();
-        if (bytes.size() % point_step != 0) {
-            throw DecodeError("size " + std::to_string(bytes.size()) +
-                              " bytes is not a multiple of " + std::to_string(columns.size()) +
-                              " float32 columns");
-        }
-        CloudBufferView view;
-        view.width = static_cast<uint32_t>(bytes.size() / point_step);
-        view.point_step = static_cast<uint32_t>(point_step);
-        view.row_step = view.width * view.point_step;
-        view.data = bytes.data();
-        view.data_size = bytes.size();
-        for (std::size_t k = 0; k < columns.size(); ++k) {
-            if (columns[k] != "_")
-                view.fields.push_back({columns[k], static_cast<uint32_t>(4 * k), 7, 1});
-        }
-        return DecodePointCloud(view, config_.fields);
+        const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        return DecodeFloat32Columns(bytes.data(), bytes.size(), config_.folder.columns, config_.fields);
     }
 
     RadarScan ReadPcd(const std::string &file) const {

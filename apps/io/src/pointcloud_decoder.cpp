@@ -184,6 +184,26 @@ RadarScan DecodePointCloud(const CloudBufferView &cloud, const FieldMap &map) {
     return scan;
 }
 
+RadarScan DecodeFloat32Columns(const uint8_t *data, std::size_t size,
+                                const std::vector<std::string> &columns, const FieldMap &map) {
+    if (columns.empty()) throw DecodeError("no columns given for the float32 scan file");
+    const std::size_t point_step = 4 * columns.size();
+    if (size % point_step != 0) {
+        throw DecodeError("size " + std::to_string(size) + " bytes is not a multiple of " +
+                          std::to_string(columns.size()) + " float32 columns");
+    }
+    CloudBufferView view;
+    view.width = static_cast<uint32_t>(size / point_step);
+    view.point_step = static_cast<uint32_t>(point_step);
+    view.row_step = view.width * view.point_step;
+    view.data = data;
+    view.data_size = size;
+    for (std::size_t k = 0; k < columns.size(); ++k) {
+        if (columns[k] != "_") view.fields.push_back({columns[k], static_cast<uint32_t>(4 * k), 7, 1});
+    }
+    return DecodePointCloud(view, map);
+}
+
 Eigen::Index RemoveNonFinitePoints(RadarScan &scan) {
     Eigen::Array<bool, Eigen::Dynamic, 1> keep(scan.size());
     for (Eigen::Index i = 0; i < scan.size(); ++i) keep[i] = IsFinitePoint(scan, i);

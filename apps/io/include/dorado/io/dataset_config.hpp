@@ -3,20 +3,14 @@
 /// The dataset description (a YAML file under configs/): which reader, which topics or paths, the
 /// field map, the extrinsics and the vehicle geometry. See configs/README.md for every key.
 
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "dorado/core/extrinsics.hpp"
+#include "dorado/io/config_error.hpp"
 #include "dorado/io/pointcloud_decoder.hpp"
 
 namespace dorado::io {
-
-/// A bad configuration: the message names the file and the key.
-class ConfigError : public std::runtime_error {
-  public:
-    using std::runtime_error::runtime_error;
-};
 
 enum class ReaderKind { kRosbag, kFolder };
 enum class TrajectoryFormat { kTum, kKitti, kPaperCsv };

@@ -70,6 +70,12 @@ class DecodeError : public std::runtime_error {
 /// Throws DecodeError naming the field or the size that does not fit.
 [[nodiscard]] RadarScan DecodePointCloud(const CloudBufferView &cloud, const FieldMap &map);
 
+/// Decodes a raw little-endian float32 scan file (View-of-Delft, ColoRadar): `columns` names each
+/// float32 column ("_" = ignored), then the field map picks the quantities. Throws DecodeError when
+/// the size is not a whole number of points.
+[[nodiscard]] RadarScan DecodeFloat32Columns(const uint8_t *data, std::size_t size,
+                                             const std::vector<std::string> &columns, const FieldMap &map);
+
 /// Names of the fields, comma separated, with their types (for messages and `dorado info`).
 [[nodiscard]] std::string DescribeFields(const std::vector<PointFieldDesc> &fields);
 

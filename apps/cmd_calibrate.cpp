@@ -1,0 +1,150 @@
+// `dorado calibrate rotation|roll|sx DATASET --out FILE.yaml`: the paper's calibration (IV-A).
+#include <Eigen/Geometry>
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "commands.hpp"
+#include "dorado/core/time.hpp"
+#include "dorado/io/atomic_file.hpp"
+#include "dorado/io/dataset.hpp"
+#include "dorado/odometry/calibration.hpp"
+#include "dorado/odometry/ego_velocity.hpp"
+#include "odometry_config.hpp"
+#include "progress.hpp"
+
+namespace dorado::apps {
+namespace {
+
+struct CalibrateOptions {
+    std::string step, dataset, out, config;
+    double from_s = -1.0, to_s = -1.0;
+    double min_speed_mps = 0.2;
+};
+
+/// Per valid, moving scan in the time range: the radar velocity and the mean gyro rate in the base
+/// frame over the interval since the previous scan (NaN without IMU).
+struct Samples {
+    std::vector<Eigen::Vector3d> v_radar, gyro_base;
+    std::size_t scans = 0, rejected = 0;
+};
+
+Samples Collect(const CalibrateOptions &opt, const io::DatasetConfig &dataset) {
+    odometry::EgoVelocityConfig ego;
+    if (!opt.config.empty()) ego = LoadOdometryConfig(opt.config).ego_velocity;
+    odometry::EgoVelocityEstimator estimator(ego);
+    auto reader = io::OpenDataset(dataset);
+    Progress progress("calibrate " + opt.step, 0);
+    const Eigen::Matrix3d R_base_imu = dataset.extrinsics.T_base_imu.linear();
+    std::vector<ImuSample> imu;
+    Samples out;
+    bool has_first = false, has_last = false;
+    int64_t first_ns = 0, last_ns = 0;
+    io::DatasetEvent event;
+    while (reader->Next(event)) {
+        if (event.kind == io::DatasetEvent::Kind::kImu) imu.push_back(event.imu);
+        if (event.kind != io::DatasetEvent::Kind::kRadarScan) continue;
+        if (!has_first) first_ns = event.stamp_ns, has_first = true;
+        progress.Update(++out.scans);
+        const double t = NanosToSeconds(event.stamp_ns - first_ns);
+        const Eigen::Vector3d gyro =
+            has_last ? Eigen::Vector3d(R_base_imu *
+                                       MeanAngularVelocity(imu, last_ns + 1, event.stamp_ns))
+                     : Eigen::Vector3d::Constant(NAN);
+        imu.clear();
+        has_last = true;
+        last_ns = event.stamp_ns;
+        if ((opt.from_s >= 0 && t < opt.from_s) || (opt.to_s >= 0 && t > opt.to_s)) continue;
+        const auto r = estimator.Estimate(event.scan);
+        if (!r.valid || r.v_radar_mps.norm() < opt.min_speed_mps) {
+            ++out.rejected;
+            continue;
+        }
+        out.v_radar.push_back(r.v_radar_mps);
+        out.gyro_base.push_back(gyro);
+    }
+    progress.Finish();
+    return out;
+}
+
+std::string Vec(const Eigen::Vector3d &v) {
+    std::ostringstream s;
+    const Eigen::Vector3d w = v.array() + 0.0;  // no "-0"
+    s << std::setprecision(8) << '[' << w.x() << ", " << w.y() << ", " << w.z() << ']';
+    return s.str();
+}
+
+// The snippet the dataset description accepts (rotation as roll, pitch, yaw with
+// R = Rz(yaw) Ry(pitch) Rx(roll)).
+void WriteSnippet(const std::string &path, const std::string &comment, const Eigen::Isometry3d &T) {
+    const Eigen::Vector3d ypr = T.linear().eulerAngles(2, 1, 0) * 180.0 / M_PI;
+    io::WriteFileAtomically(path, [&](std::ostream &os) {
+        os << comment << "extrinsics:\n  T_base_radar:\n    translation_m: " << Vec(T.translation())
+           << "\n    rotation_rpy_deg: " << Vec(Eigen::Vector3d(ypr[2], ypr[1], ypr[0])) << "\n";
+    });
+}
+
+void RunCalibrate(const CalibrateOptions &opt) {
+    const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset);
+    if (opt.step == "sx" &&
+        (dataset.reader != io::ReaderKind::kRosbag || dataset.rosbag.imu_topic.empty()))
+        throw io::ConfigError(opt.dataset +
+                              ": key 'rosbag.imu_topic': s_x calibration needs an IMU");
+    const Samples samples = Collect(opt, dataset);
+    std::fprintf(stderr,
+                 "calibrate %s: %zu scans, %zu used, %zu rejected (invalid or slower than "
+                 "%.2f m/s)\n",
+                 opt.step.c_str(), samples.scans, samples.v_radar.size(), samples.rejected,
+                 opt.min_speed_mps);
+    Eigen::Isometry3d T = dataset.extrinsics.T_base_radar;
+    std::ostringstream comment;
+    comment << std::setprecision(4);
+    if (opt.step == "rotation" || opt.step == "roll") {
+        const auto c = opt.step == "rotation"
+                           ? odometry::CalibrateRotation(samples.v_radar, T.linear())
+                           : odometry::CalibrateRoll(samples.v_radar, T.linear());
+        T.linear() = c.R_base_radar;
+        comment << "# dorado calibrate " << opt.step << ": " << c.samples << " scans, residual RMS "
+                << c.rms_residual_mps << " m/s, angle sigma " << c.sigma_rad * 180 / M_PI
+                << " deg\n";
+    } else {
+        std::vector<Eigen::Vector3d> v_s;
+        std::vector<double> yaw;
+        for (std::size_t i = 0; i < samples.v_radar.size(); ++i) {
+            if (!samples.gyro_base[i].allFinite()) continue;
+            v_s.push_back(T.linear() * samples.v_radar[i]);
+            yaw.push_back(samples.gyro_base[i].z());
+        }
+        const auto c = odometry::CalibrateSx(v_s, yaw);
+        T.translation().x() = c.s_x_m;
+        comment << "# dorado calibrate sx: s_x = " << c.s_x_m << " +- " << c.sigma_m << " m from "
+                << c.inliers << " of " << c.samples << " scans, residual RMS " << c.rms_residual_mps
+                << " m/s\n";
+    }
+    std::cerr << comment.str();
+    WriteSnippet(opt.out, comment.str(), T);
+}
+
+}  // namespace
+
+void RegisterCalibrateCommand(CLI::App &app) {
+    auto opt = std::make_shared<CalibrateOptions>();
+    auto *cmd = app.add_subcommand(
+        "calibrate",
+        "Radar mounting calibration (paper IV-A). rotation: drive straight forward and backward; "
+        "roll: drive with turns on flat ground (after rotation); sx: drive a flat circle (needs an "
+        "IMU). Writes a YAML snippet for the dataset description.");
+    cmd->add_option("STEP", opt->step, "rotation | roll | sx")
+        ->required()
+        ->check(CLI::IsMember({"rotation", "roll", "sx"}));
+    cmd->add_option("DATASET", opt->dataset, "dataset description (.yaml) or .bag")->required();
+    cmd->add_option("--from", opt->from_s, "start [s from the first scan]");
+    cmd->add_option("--to", opt->to_s, "end [s from the first scan]");
+    cmd->add_option("--out", opt->out, "YAML snippet to write")->required();
+    cmd->add_option("--config", opt->config, "odometry settings (ego_velocity section is used)");
+    cmd->add_option("--min-speed", opt->min_speed_mps, "ignore scans slower than this [m/s]");
+    cmd->callback([opt] { RunCalibrate(*opt); });
+}
+
+}  // namespace dorado::apps

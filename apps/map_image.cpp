@@ -1,0 +1,105 @@
+#include "map_image.hpp"
+
+#include <map>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+namespace dorado::apps {
+
+namespace {
+
+double Quantile(std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    const auto k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1));
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
+    return v[k];
+}
+
+/// The 256 colours of an OpenCV colormap, computed once per colormap (applyColorMap builds its
+/// table on every call: far too slow per point).
+const cv::Mat3b &ColormapTable(int colormap) {
+    static std::map<int, cv::Mat3b> tables;
+    auto it = tables.find(colormap);
+    if (it == tables.end()) {
+        cv::Mat1b ramp(256, 1);
+        for (int i = 0; i < 256; ++i) ramp(i, 0) = static_cast<uchar>(i);
+        cv::Mat3b table;
+        cv::applyColorMap(ramp, table, colormap);
+        it = tables.emplace(colormap, table).first;
+    }
+    return it->second;
+}
+
+cv::Vec3b ColourOf(double t, int colormap) {  // t in [0, 1]
+    const double clamped = std::isfinite(t) ? std::clamp(t, 0.0, 1.0) : 0.0;
+    return ColormapTable(colormap)(static_cast<int>(clamped * 255.0), 0);
+}
+
+}  // namespace
+
+void WriteBirdsEyeImage(const std::string &path, const Eigen::Matrix3Xd &map_points_world,
+                        const std::vector<Eigen::Vector3d> &trajectory_world, int max_side_px) {
+    Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
+    auto grow = [&](const Eigen::Vector3d &p) {
+        lo = lo.cwiseMin(p.head<2>());
+        hi = hi.cwiseMax(p.head<2>());
+    };
+    for (Eigen::Index i = 0; i < map_points_world.cols(); ++i) grow(map_points_world.col(i));
+    for (const auto &p : trajectory_world) grow(p);
+    if (!lo.allFinite()) lo = hi = Eigen::Vector2d::Zero();
+    const double margin_m = 5.0;
+    lo.array() -= margin_m;
+    hi.array() += margin_m;
+    const double px_per_m = max_side_px / std::max(hi.x() - lo.x(), hi.y() - lo.y());
+    const int width = std::max(1, static_cast<int>(std::ceil((hi.x() - lo.x()) * px_per_m)));
+    const int height = std::max(1, static_cast<int>(std::ceil((hi.y() - lo.y()) * px_per_m)));
+    cv::Mat3b image(height, width, cv::Vec3b(255, 255, 255));
+    auto pixel = [&](const Eigen::Vector3d &p) {  // world +Y up in the picture
+        return cv::Point(static_cast<int>((p.x() - lo.x()) * px_per_m),
+                         static_cast<int>((hi.y() - p.y()) * px_per_m));
+    };
+
+    // Points coloured by height, the 2-98 % range of z spread over the colour map.
+    std::vector<double> z(map_points_world.cols());
+    for (Eigen::Index i = 0; i < map_points_world.cols(); ++i) z[i] = map_points_world(2, i);
+    const double z_lo = Quantile(z, 0.02), z_hi = std::max(Quantile(z, 0.98), z_lo + 1e-3);
+    // Low points first, so that walls and poles stay visible over the ground.
+    std::vector<Eigen::Index> order(map_points_world.cols());
+    for (Eigen::Index i = 0; i < map_points_world.cols(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](auto a, auto b) { return z[a] < z[b]; });
+    for (const auto i : order) {
+        const cv::Point q = pixel(map_points_world.col(i));
+        if (q.x < 0 || q.y < 0 || q.x >= width || q.y >= height) continue;
+        image(q) = ColourOf((z[i] - z_lo) / (z_hi - z_lo), cv::COLORMAP_VIRIDIS);
+    }
+    // Trajectory coloured by time.
+    for (std::size_t k = 1; k < trajectory_world.size(); ++k) {
+        const double t = static_cast<double>(k) / static_cast<double>(trajectory_world.size());
+        const cv::Vec3b c = ColourOf(t, cv::COLORMAP_PLASMA);
+        cv::line(image, pixel(trajectory_world[k - 1]), pixel(trajectory_world[k]),
+                 cv::Scalar(c[0], c[1], c[2]), 3, cv::LINE_AA);
+    }
+    // Scale bar: a round length near a fifth of the width.
+    const double target_m = 0.2 * width / px_per_m;
+    const double bar_m = std::pow(10.0, std::floor(std::log10(std::max(target_m, 1e-3))));
+    const cv::Point a(20, height - 20), b(20 + static_cast<int>(bar_m * px_per_m), height - 20);
+    cv::line(image, a, b, cv::Scalar(0, 0, 0), 3);
+    cv::putText(image, std::to_string(static_cast<long>(bar_m)) + " m", a + cv::Point(0, -10),
+                cv::FONT_HERSHEY_SIMPLEX, 0.7, cv::Scalar(0, 0, 0), 2);
+    // Atomically: a temporary file, then a rename.
+    const std::string tmp = path + ".tmp.png";
+    bool ok = false;
+    try {
+        ok = cv::imwrite(tmp, image);
+    } catch (const cv::Exception &e) {
+        throw std::runtime_error(path + ": cannot write the map picture: " + e.what());
+    }
+    if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0)
+        throw std::runtime_error(path + ": cannot write the map picture");
+}
+
+}  // namespace dorado::apps

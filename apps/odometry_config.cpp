@@ -1,0 +1,95 @@
+#include "odometry_config.hpp"
+
+#include <stdexcept>
+
+#include "dorado/io/yaml_section.hpp"
+
+namespace dorado::apps {
+namespace {
+
+using odometry::CovarianceModel;
+using odometry::PowerWeighting;
+using odometry::RobustMethod;
+using odometry::TrimMode;
+
+void ReadEgoVelocity(io::YamlSection m, odometry::EgoVelocityConfig &c) {
+    m.Read("min_range_m", c.min_range_m);
+    m.Read("max_range_m", c.max_range_m);
+    m.Read("min_azimuth_deg", c.min_azimuth_deg);
+    m.Read("max_azimuth_deg", c.max_azimuth_deg);
+    m.Read("min_elevation_deg", c.min_elevation_deg);
+    m.Read("max_elevation_deg", c.max_elevation_deg);
+    m.Read("min_power_db", c.min_power_db);
+    m.Read("use_power", c.use_power);
+    m.ReadEnum("power_weighting", c.power_weighting,
+               {{"snr", PowerWeighting::kSnr},
+                {"linear", PowerWeighting::kLinear},
+                {"decibel", PowerWeighting::kDecibel}});
+    m.Read("snr_reference_db", c.snr_reference_db);
+    m.Read("decibel_floor_db", c.decibel_floor_db);
+    m.ReadEnum("method", c.method,
+               {{"ransac", RobustMethod::kRansac},
+                {"trimmed_irls", RobustMethod::kTrimmedIrls},
+                {"none", RobustMethod::kNone}});
+    m.Read("doppler_sigma_mps", c.doppler_sigma_mps);
+    m.Read("gate_sigmas", c.gate_sigmas);
+    m.Read("max_gate_scale", c.max_gate_scale);
+    m.Read("ransac_success_probability", c.ransac_success_probability);
+    m.Read("ransac_min_iterations", c.ransac_min_iterations);
+    m.Read("ransac_max_iterations", c.ransac_max_iterations);
+    m.Read("ransac_score_points", c.ransac_score_points);
+    m.Read("score_cells_azimuth", c.score_cells_azimuth);
+    m.Read("score_cells_elevation", c.score_cells_elevation);
+    m.Read("refit_iterations", c.refit_iterations);
+    m.Read("seed", c.seed);
+    m.ReadEnum(
+        "trim_mode", c.trim_mode,
+        {{"percent", TrimMode::kPercent}, {"mad", TrimMode::kMad}, {"fixed", TrimMode::kFixed}});
+    m.Read("trim_value", c.trim_value);
+    m.Read("irls_max_iterations", c.irls_max_iterations);
+    m.ReadEnum("covariance", c.covariance,
+               {{"sandwich", CovarianceModel::kSandwich},
+                {"residual_scaled", CovarianceModel::kResidualScaled}});
+    m.Read("min_points", c.min_points);
+    m.Read("min_inliers", c.min_inliers);
+    m.Read("min_inlier_ratio", c.min_inlier_ratio);
+    m.Read("max_condition_number", c.max_condition_number);
+    m.Read("max_speed_mps", c.max_speed_mps);
+    m.Read("stationary_speed_mps", c.stationary_speed_mps);
+    m.RejectUnknownKeys();
+}
+
+}  // namespace
+
+odometry::RotationSource ParseRotationSource(const std::string &text, const std::string &what) {
+    if (text == "doppler") return odometry::RotationSource::kDoppler;
+    if (text == "imu") return odometry::RotationSource::kImu;
+    if (text == "imu-only") return odometry::RotationSource::kImuOnly;
+    throw io::ConfigError(what + ": '" + text + "' is not one of: doppler, imu, imu-only");
+}
+
+odometry::DopplerOdometryConfig LoadOdometryConfig(const std::string &yaml_path) {
+    odometry::DopplerOdometryConfig config;
+    io::YamlSection top(io::LoadYamlFile(yaml_path), yaml_path);
+    ReadEgoVelocity(top.Child("ego_velocity"), config.ego_velocity);
+    io::YamlSection odo = top.Child("odometry");
+    if (odo.Has("rotation")) {
+        config.rotation = ParseRotationSource(odo.Get<std::string>("rotation", ""),
+                                              yaml_path + ": key 'odometry.rotation'");
+    }
+    odo.Read("zero_velocity_update", config.zero_velocity_update);
+    odo.Read("max_angular_rate_radps", config.max_angular_rate_radps);
+    odo.RejectUnknownKeys();
+    top.RejectUnknownKeys();
+    try {
+        config.Validate();  // messages name the field as "section.key: ..."
+    } catch (const std::invalid_argument &e) {
+        const std::string what = e.what();
+        const auto colon = what.find(':');
+        throw io::ConfigError(yaml_path + ": key '" + what.substr(0, colon) + "'" +
+                              what.substr(colon));
+    }
+    return config;
+}
+
+}  // namespace dorado::apps

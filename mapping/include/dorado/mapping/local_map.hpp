@@ -1,0 +1,59 @@
+#pragma once
+/// @file local_map.hpp
+/// The local map the scans are registered against: points in the world frame, kept in a voxel
+/// hash (at most a few points per voxel, kiss-icp style) and cropped to a radius around the
+/// vehicle. The search structures (PCL kd-tree, local covariances) are built lazily, only when
+/// registration asks for them after an update.
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <memory>
+
+namespace dorado::mapping {
+
+struct LocalMapConfig {
+    double voxel_size_m = 1.0;     ///< edge of the voxels that bound the map density
+    int max_points_per_voxel = 2;  ///< points kept per voxel (the first ones that arrive)
+    double max_distance_m = 80.0;  ///< voxels farther than this from the vehicle are dropped (infinity: never)
+
+    /// Throws std::invalid_argument naming the first bad key.
+    void Validate() const;
+};
+
+class LocalMap {
+  public:
+    explicit LocalMap(const LocalMapConfig &config = {});
+    ~LocalMap();
+    LocalMap(LocalMap &&) noexcept;
+    LocalMap &operator=(LocalMap &&) noexcept;
+
+    /// Adds points (world frame) to the voxels that still have room, then drops the voxels farther
+    /// than max_distance_m from position_world (the vehicle).
+    void Update(const Eigen::Matrix3Xd &points_world, const Eigen::Vector3d &position_world);
+
+    /// Builds the search structures now (otherwise on the first query after an Update).
+    void BuildIndex() const;
+
+    /// Every map point, in the world frame.
+    [[nodiscard]] Eigen::Matrix3Xd Points() const;
+    [[nodiscard]] std::size_t size() const;
+    [[nodiscard]] bool empty() const { return size() == 0; }
+    [[nodiscard]] const LocalMapConfig &config() const;
+
+    /// Nearest map point to query_world: its index into the current search structure and the
+    /// squared distance; index -1 when the map is empty.
+    struct Neighbour {
+        int index = -1;
+        double distance_squared = 0.0;
+    };
+    [[nodiscard]] Neighbour Nearest(const Eigen::Vector3d &query_world) const;
+
+    /// Implementation (PCL search structures); defined in mapping/src/local_map_impl.hpp.
+    struct Impl;
+    [[nodiscard]] Impl &impl() const { return *impl_; }
+
+  private:
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dorado::mapping

@@ -1,0 +1,100 @@
+#pragma once
+/// @file motion_prior.hpp
+/// Motion priors for scan-to-map registration (paper section IV-C): where the vehicle should be at
+/// the new scan, and how sure we are. Each builder is a free function on plain data, so the mapper
+/// does not depend on where the motion came from (Doppler odometry, IMU, previous poses).
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dorado/core/imu.hpp"
+#include "dorado/core/lie.hpp"
+
+namespace dorado::mapping {
+
+/// A predicted pose of the base frame in the world, with the covariance of its error.
+///
+/// The error is the tangent perturbation xi = [rho; phi] (translation first, metres and radians)
+/// on the right: T_true = T_world_base * ExpSE3(xi), i.e. expressed in the predicted base frame.
+struct MotionPrior {
+    Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
+    Matrix6d covariance = Matrix6d::Identity();
+    std::string source;  ///< "none", "constvel", "imu", "doppler", "imu+doppler" (for reports)
+};
+
+/// Velocity of the base frame, expressed in the base frame, with its covariance (as the Doppler
+/// odometry's kinematic model gives it, paper eq. 6-7 and 9).
+struct BaseTwist {
+    Eigen::Vector3d v_base_mps = Eigen::Vector3d::Zero();
+    Eigen::Vector3d omega_base_radps = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d cov_v_base = Eigen::Matrix3d::Identity();
+    Eigen::Matrix3d cov_omega_base = Eigen::Matrix3d::Identity();
+};
+
+/// Noise levels of the priors. Defaults are for a car-like vehicle at 10-20 Hz; see
+/// configs/mapper.yaml.
+struct PriorNoiseConfig {
+    /// `none`: how far the vehicle may have gone since the previous scan (1 sigma).
+    double none_sigma_translation_m = 2.0;
+    double none_sigma_rotation_rad = 0.3;
+    /// `constvel`: unmodelled linear / angular acceleration (1 sigma).
+    double constvel_sigma_accel_mps2 = 3.0;
+    double constvel_sigma_angular_accel_radps2 = 1.5;
+    /// `imu`: gyro and accelerometer white noise, and the uncertainty of the velocity the
+    /// accelerometer integration starts from (taken from the mapper's previous motion).
+    double imu_gyro_sigma_radps = 0.01;
+    double imu_accel_sigma_mps2 = 0.2;
+    double imu_velocity_sigma_mps = 0.3;
+    Eigen::Vector3d gravity_world_mps2 = Eigen::Vector3d(0.0, 0.0, -9.81);
+    /// `doppler`: floors added to the estimator's covariances. The kinematic model sets the roll
+    /// rate to zero with zero variance (paper eq. 7): it is not observed, so it gets a real
+    /// uncertainty.
+    double doppler_min_sigma_v_mps = 0.02;
+    Eigen::Vector3d doppler_min_sigma_omega_radps = Eigen::Vector3d(0.05, 0.02, 0.01);
+
+    /// Throws std::invalid_argument naming the first bad key.
+    void Validate() const;
+};
+
+/// `none` (the paper's failing base case): the previous pose, with a wide covariance.
+[[nodiscard]] MotionPrior PriorFromPreviousPose(const Eigen::Isometry3d &T_world_base_prev,
+                                                const PriorNoiseConfig &noise);
+
+/// `constvel` (kiss-icp): repeat the last relative motion, scaled to this interval.
+/// dt_prev_s is the interval between the two previous poses, dt_s the interval to predict.
+[[nodiscard]] MotionPrior PriorConstantVelocity(const Eigen::Isometry3d &T_world_base_prevprev,
+                                                const Eigen::Isometry3d &T_world_base_prev,
+                                                double dt_prev_s, double dt_s,
+                                                const PriorNoiseConfig &noise);
+
+/// `imu`: gyro rotation and accelerometer double integration over (t0_ns, t1_ns], starting from
+/// the previous pose and the world velocity v_world_prev_mps. Empty when no sample falls in the
+/// interval. The lever arm of the IMU is neglected in the acceleration (a few mm/s^2 on a car).
+[[nodiscard]] std::optional<MotionPrior> PriorFromImu(const Eigen::Isometry3d &T_world_base_prev,
+                                                      const Eigen::Vector3d &v_world_prev_mps,
+                                                      const std::vector<ImuSample> &samples,
+                                                      int64_t t0_ns, int64_t t1_ns,
+                                                      const Eigen::Isometry3d &T_base_imu,
+                                                      const PriorNoiseConfig &noise);
+
+/// `doppler` (the paper): constant base twist from the Doppler odometry over dt_s,
+/// T = T_prev * ExpSE3([v; omega] dt), covariance blockdiag(cov_v, cov_omega) dt^2 with floors.
+[[nodiscard]] MotionPrior PriorFromDoppler(const Eigen::Isometry3d &T_world_base_prev,
+                                           const BaseTwist &twist, double dt_s,
+                                           const PriorNoiseConfig &noise);
+
+/// `imu+doppler` (the paper's I+D): rotation rate from the mean gyro over (t0_ns, t1_ns], rotated
+/// into the base frame; translation velocity from the Doppler odometry. Empty without IMU samples.
+[[nodiscard]] std::optional<MotionPrior> PriorFromImuAndDoppler(
+    const Eigen::Isometry3d &T_world_base_prev, const BaseTwist &twist,
+    const std::vector<ImuSample> &samples, int64_t t0_ns, int64_t t1_ns,
+    const Eigen::Isometry3d &T_base_imu, double dt_s, const PriorNoiseConfig &noise);
+
+/// Squared Mahalanobis distance of T_world_base from the prior: xi^T C^-1 xi with
+/// xi = LogSE3(prior.T_world_base^-1 * T_world_base).
+[[nodiscard]] double PriorMahalanobisSquared(const MotionPrior &prior,
+                                             const Eigen::Isometry3d &T_world_base);
+
+}  // namespace dorado::mapping

@@ -1,0 +1,135 @@
+#pragma once
+/// @file radar_mapper.hpp
+/// Radar scan-to-map registration with a motion prior (paper section IV-C), made Doppler-aware by
+/// a Ceres refinement: for each scan, downsample, register against the local map with PCL from the
+/// prior, refine the pose with registration + Doppler + prior residuals, fall back to the prior
+/// when registration is not trustworthy, and update the map.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <memory>
+#include <string>
+
+#include "dorado/core/extrinsics.hpp"
+#include "dorado/core/radar_scan.hpp"
+#include "dorado/mapping/local_map.hpp"
+#include "dorado/mapping/motion_prior.hpp"
+
+namespace dorado::mapping {
+
+enum class RegistrationMethod { kPointToPoint, kPointToPlane, kGicp };
+enum class Refinement { kNone, kCeres };
+enum class RobustKernel { kNone, kHuber, kCauchy, kTukey };
+
+/// Every default is explained in configs/mapper.yaml.
+struct MapperConfig {
+    // Which points of a scan are used.
+    double min_range_m = 1.0;
+    double max_range_m = 100.0;
+    double scan_voxel_m = 1.0;    ///< voxel of the downsampled scan that is registered
+    int max_source_points = 800;  ///< then evenly thinned to at most this many
+
+    LocalMapConfig map;
+    /// Add a scan to the map only when the vehicle moved this far / turned this much since the
+    /// last map update (0 and 0: every scan).
+    double keyframe_distance_m = 1.0;
+    double keyframe_angle_deg = 5.0;
+    bool update_map_on_fallback = true;
+
+    // PCL registration.
+    RegistrationMethod method = RegistrationMethod::kPointToPoint;
+    int max_iterations = 10;
+    double initial_threshold_m = 2.0;
+    double min_threshold_m = 0.5;
+    double min_motion_m = 0.1;
+    int covariance_neighbours = 20;  ///< k of the local covariances (plane, GICP)
+
+    // Ceres refinement.
+    Refinement refinement = Refinement::kCeres;
+    RobustKernel kernel = RobustKernel::kCauchy;
+    double kernel_scale = 1.0;    ///< in whitened units (sigmas)
+    double point_sigma_m = 0.3;   ///< radar point position noise
+    double plane_flatness = 0.1;  ///< GICP-style eigenvalue of a map neighbourhood's normal axis
+    double doppler_sigma_mps = 0.15;
+    bool use_doppler = true;
+    int max_registration_residuals = 250;
+    int max_doppler_residuals = 150;
+    int refine_max_iterations = 5;
+    int refine_outer_iterations = 1;  ///< re-associate and refine this many times
+
+    // When registration is not trusted and the pose falls back to the prior.
+    int min_correspondences = 40;
+    double max_rms_m = 1.5;
+    /// A "jump": the registered pose is farther from the prior than this squared Mahalanobis
+    /// distance under the prior covariance plus the registration's own noise (below).
+    double max_prior_mahalanobis_squared = 25.0;
+    double registration_sigma_translation_m = 0.1;
+    double registration_sigma_rotation_rad = 0.01;
+    double min_observability = 0.004;
+
+    /// Throws std::invalid_argument naming the first bad key.
+    void Validate() const;
+};
+
+/// Milliseconds spent in each stage of Register.
+struct StageTimes {
+    double preprocess_ms = 0.0;    ///< range gate, mask, base frame, voxel downsample
+    double registration_ms = 0.0;  ///< PCL alignment + data association + checks
+    double alignment_ms = 0.0;     ///< of which the PCL alignment alone
+    double refinement_ms = 0.0;    ///< Ceres
+    double map_update_ms = 0.0;    ///< voxel map update + kd-tree rebuild
+    double total_ms = 0.0;
+};
+
+struct RegistrationResult {
+    Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
+    bool first_scan = false;      ///< the map was empty: the pose is the prior and starts the map
+    bool fallback = false;        ///< registration not trusted: the pose is the prior
+    std::string fallback_reason;  ///< why (empty when registered)
+    int source_points = 0;        ///< downsampled points registered
+    int correspondences = 0;      ///< within the threshold at the final pose
+    double fitness_rms_m = 0.0;   ///< RMS distance of those correspondences
+    double observability = 0.0;   ///< min eigenvalue ratio of the point-to-plane information
+    double prior_mahalanobis_squared =
+        0.0;                   ///< of the registered pose (prior + registration noise)
+    double threshold_m = 0.0;  ///< correspondence threshold used
+    int doppler_residuals = 0;
+    bool map_updated = false;
+    StageTimes times;
+};
+
+/// An optional per-point flag: true = static (keep). Same length as the scan.
+using PointMask = Eigen::Array<bool, Eigen::Dynamic, 1>;
+
+class RadarMapper {
+  public:
+    RadarMapper(const MapperConfig &config, const Extrinsics &extrinsics);
+    ~RadarMapper();
+    RadarMapper(RadarMapper &&) noexcept;
+    RadarMapper &operator=(RadarMapper &&) noexcept;
+
+    /// Registers one scan (radar frame). dt_s is the time since the previous registered scan (the
+    /// interval over which the Doppler residuals compare the pose's velocity). With static_mask,
+    /// only points flagged true are registered, used as Doppler residuals and added to the map.
+    /// Throws std::invalid_argument on a mask of the wrong size or a non-finite dt.
+    RegistrationResult Register(const RadarScan &scan_radar, const MotionPrior &prior, double dt_s,
+                                const PointMask *static_mask = nullptr);
+
+    [[nodiscard]] const LocalMap &local_map() const;
+    [[nodiscard]] const MapperConfig &config() const;
+    /// Scans that fell back to the prior so far.
+    [[nodiscard]] int fallbacks() const;
+
+  private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+[[nodiscard]] const char *ToString(RegistrationMethod method);
+[[nodiscard]] const char *ToString(RobustKernel kernel);
+/// Parse "point_to_point" | "point_to_plane" | "gicp"; throws std::invalid_argument.
+[[nodiscard]] RegistrationMethod ParseRegistrationMethod(const std::string &name);
+/// Parse "none" | "huber" | "cauchy" | "tukey"; throws std::invalid_argument.
+[[nodiscard]] RobustKernel ParseRobustKernel(const std::string &name);
+
+}  // namespace dorado::mapping

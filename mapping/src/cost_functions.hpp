@@ -1,0 +1,174 @@
+#pragma once
+// Internal: Ceres cost functors of the pose refinement (after Ceres' examples/slam/pose_graph_3d).
+// Each pose is a position p (3) and a unit quaternion q (4, Eigen order x y z w, on
+// ceres::EigenQuaternionManifold). Residuals are whitened: r^T r is the squared Mahalanobis norm.
+
+#include <ceres/autodiff_cost_function.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "whitening.hpp"
+
+namespace dorado::mapping {
+
+// Registration residual of one correspondence: a scan point p_base (base frame) should lie on the
+// local distribution of the map around q_world (world frame):
+//
+//   e = R_world_base * p_base + t_world_base - q_world,     r = W e,
+//
+// with W = L^-1, C = L L^T the covariance of e (the map neighbourhood's GICP-regularised shape
+// scaled by the point noise). For a flat neighbourhood this is a soft point-to-plane distance.
+class RegistrationError {
+  public:
+    RegistrationError(const Eigen::Vector3d &p_base, const Eigen::Vector3d &q_world,
+                      const Eigen::Matrix3d &sqrt_information)
+        : p_base_(p_base), q_world_(q_world), sqrt_information_(sqrt_information) {}
+
+    template <typename T>
+    bool operator()(const T *const p_ptr, const T *const q_ptr, T *residuals_ptr) const {
+        Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_world_base(p_ptr);
+        Eigen::Map<const Eigen::Quaternion<T>> q_world_base(q_ptr);
+        Eigen::Map<Eigen::Matrix<T, 3, 1>> residuals(residuals_ptr);
+        const Eigen::Matrix<T, 3, 1> e =
+            q_world_base * p_base_.cast<T>() + t_world_base - q_world_.cast<T>();
+        residuals = sqrt_information_.cast<T>() * e;
+        return true;
+    }
+
+    static ceres::CostFunction *Create(const Eigen::Vector3d &p_base,
+                                       const Eigen::Vector3d &q_world,
+                                       const Eigen::Matrix3d &sqrt_information) {
+        return new ceres::AutoDiffCostFunction<RegistrationError, 3, 3, 4>(
+            new RegistrationError(p_base, q_world, sqrt_information));
+    }
+
+  private:
+    Eigen::Vector3d p_base_;
+    Eigen::Vector3d q_world_;
+    Eigen::Matrix3d sqrt_information_;
+};
+
+// Doppler residual of one static point (Doppler-ICP made kinematic). The pose's motion since the
+// previous (fixed) pose, T_rel = T_prev^-1 T, is read as a constant body twist over dt:
+//
+//   [rho; phi] = LogSE3(T_rel),   v_base = rho / dt,   omega_base = phi / dt   (base frame),
+//   v_radar = R_base_radar^T (v_base + omega_base x t_base_radar)    (rigid body, paper eq. 5),
+//   predicted Doppler = -d_radar . v_radar                            (paper eq. 1),
+//   r = (measured - predicted) / sigma.
+class DopplerError {
+  public:
+    DopplerError(const Eigen::Vector3d &d_radar, double doppler_mps,
+                 const Eigen::Isometry3d &T_base_radar, const Eigen::Isometry3d &T_world_base_prev,
+                 double dt_s, double sigma_mps)
+        : d_radar_(d_radar),
+          doppler_mps_(doppler_mps),
+          R_base_radar_(T_base_radar.linear()),
+          t_base_radar_(T_base_radar.translation()),
+          q_world_prev_(T_world_base_prev.linear()),
+          t_world_prev_(T_world_base_prev.translation()),
+          dt_s_(dt_s),
+          sigma_mps_(sigma_mps) {}
+
+    template <typename T>
+    bool operator()(const T *const p_ptr, const T *const q_ptr, T *residual) const {
+        using Vec3 = Eigen::Matrix<T, 3, 1>;
+        Eigen::Map<const Vec3> t_world_base(p_ptr);
+        Eigen::Map<const Eigen::Quaternion<T>> q_world_base(q_ptr);
+        const Eigen::Quaternion<T> q_prev_inv = q_world_prev_.conjugate().cast<T>();
+        Eigen::Quaternion<T> q_rel = q_prev_inv * q_world_base;
+        const Vec3 t_rel = q_prev_inv * (t_world_base - t_world_prev_.cast<T>());
+        const Vec3 phi = LogQuaternion(q_rel);
+        const Vec3 rho = LeftJacobianInverseTimes(phi, t_rel);
+        const T inv_dt = T(1.0 / dt_s_);
+        const Vec3 v_base = rho * inv_dt;
+        const Vec3 omega_base = phi * inv_dt;
+        const Vec3 v_radar = R_base_radar_.transpose().cast<T>() *
+                             (v_base + omega_base.cross(t_base_radar_.cast<T>()));
+        const T predicted = -d_radar_.cast<T>().dot(v_radar);
+        residual[0] = (T(doppler_mps_) - predicted) / T(sigma_mps_);
+        return true;
+    }
+
+    static ceres::CostFunction *Create(const Eigen::Vector3d &d_radar, double doppler_mps,
+                                       const Eigen::Isometry3d &T_base_radar,
+                                       const Eigen::Isometry3d &T_world_base_prev, double dt_s,
+                                       double sigma_mps) {
+        return new ceres::AutoDiffCostFunction<DopplerError, 1, 3, 4>(new DopplerError(
+            d_radar, doppler_mps, T_base_radar, T_world_base_prev, dt_s, sigma_mps));
+    }
+
+    // Rotation vector of a unit quaternion (the shorter way round).
+    template <typename T>
+    static Eigen::Matrix<T, 3, 1> LogQuaternion(Eigen::Quaternion<T> q) {
+        if (q.w() < T(0)) q.coeffs() = -q.coeffs();
+        const T sin_half_sq = q.vec().squaredNorm();
+        if (sin_half_sq < T(1e-16)) return T(2.0) * q.vec() / q.w();  // Taylor, avoids sqrt(0)
+        const T sin_half = sqrt(sin_half_sq);
+        return (T(2.0) * atan2(sin_half, q.w()) / sin_half) * q.vec();
+    }
+
+    // J_l(phi)^-1 * t: the translation part of LogSE3 (closed form, Barfoot eq. 7.95).
+    template <typename T>
+    static Eigen::Matrix<T, 3, 1> LeftJacobianInverseTimes(const Eigen::Matrix<T, 3, 1> &phi,
+                                                           const Eigen::Matrix<T, 3, 1> &t) {
+        const T theta_sq = phi.squaredNorm();
+        T coeff = T(1.0 / 12.0);
+        if (theta_sq > T(1e-10)) {
+            const T theta = sqrt(theta_sq);
+            coeff = T(1.0) / theta_sq - (T(1.0) + cos(theta)) / (T(2.0) * theta * sin(theta));
+        }
+        const Eigen::Matrix<T, 3, 1> phi_x_t = phi.cross(t);
+        return t - T(0.5) * phi_x_t + coeff * phi.cross(phi_x_t);
+    }
+
+  private:
+    Eigen::Vector3d d_radar_;
+    double doppler_mps_;
+    Eigen::Matrix3d R_base_radar_;
+    Eigen::Vector3d t_base_radar_;
+    Eigen::Quaterniond q_world_prev_;
+    Eigen::Vector3d t_world_prev_;
+    double dt_s_;
+    double sigma_mps_;
+};
+
+// Prior residual (pose_graph_3d's relative-pose error against the predicted pose):
+//
+//   delta = T_prior^-1 T,   e = [delta_p; 2 vec(delta_q)]  (~ [rho; phi] to first order),
+//   r = L^-1 e,  with C = L L^T the prior covariance (its Cholesky factor): r^T r = e^T C^-1 e.
+class PriorError {
+  public:
+    PriorError(const Eigen::Isometry3d &T_world_base_prior,
+               const Eigen::Matrix<double, 6, 6> &sqrt_information)
+        : q_prior_(T_world_base_prior.linear()),
+          t_prior_(T_world_base_prior.translation()),
+          sqrt_information_(sqrt_information) {}
+
+    template <typename T>
+    bool operator()(const T *const p_ptr, const T *const q_ptr, T *residuals_ptr) const {
+        Eigen::Map<const Eigen::Matrix<T, 3, 1>> t_world_base(p_ptr);
+        Eigen::Map<const Eigen::Quaternion<T>> q_world_base(q_ptr);
+        Eigen::Map<Eigen::Matrix<T, 6, 1>> residuals(residuals_ptr);
+        const Eigen::Quaternion<T> q_prior_inv = q_prior_.conjugate().cast<T>();
+        const Eigen::Quaternion<T> delta_q = q_prior_inv * q_world_base;
+        residuals.template head<3>() = q_prior_inv * (t_world_base - t_prior_.cast<T>());
+        residuals.template tail<3>() = T(2.0) * delta_q.vec();
+        residuals.applyOnTheLeft(sqrt_information_.template cast<T>());
+        return true;
+    }
+
+    static ceres::CostFunction *Create(const Eigen::Isometry3d &T_world_base_prior,
+                                       const Eigen::Matrix<double, 6, 6> &sqrt_information) {
+        return new ceres::AutoDiffCostFunction<PriorError, 6, 3, 4>(
+            new PriorError(T_world_base_prior, sqrt_information));
+    }
+
+  private:
+    Eigen::Quaterniond q_prior_;
+    Eigen::Vector3d t_prior_;
+    Eigen::Matrix<double, 6, 6> sqrt_information_;
+};
+
+}  // namespace dorado::mapping

@@ -1,0 +1,309 @@
+#include "dorado/mapping/radar_mapper.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "dorado/mapping/adaptive_threshold.hpp"
+#include "registration.hpp"
+
+namespace dorado::mapping {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MillisecondsSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// The points of a scan the mapper uses: in the range gate, finite, and static when a mask is given.
+struct ScanPoints {
+    Eigen::Matrix3Xd p_base;  ///< all used points, base frame (for the map)
+    std::vector<DopplerObservation> doppler;
+};
+
+ScanPoints SelectScanPoints(const RadarScan &scan, const PointMask *static_mask,
+                            const Eigen::Isometry3d &T_base_radar, const MapperConfig &config) {
+    ScanPoints out;
+    out.p_base.resize(3, scan.size());
+    Eigen::Index n = 0;
+    for (Eigen::Index i = 0; i < scan.size(); ++i) {
+        if (static_mask != nullptr && !(*static_mask)(i)) continue;
+        const Eigen::Vector3d p_radar = scan.xyz_radar.col(i);
+        const double range = p_radar.norm();
+        if (!std::isfinite(range) || range < config.min_range_m || range > config.max_range_m)
+            continue;
+        out.p_base.col(n++) = T_base_radar * p_radar;  // radar frame in, base frame out
+        if (std::isfinite(scan.doppler_mps(i)))
+            out.doppler.push_back({p_radar / range, scan.doppler_mps(i)});
+    }
+    out.p_base.conservativeResize(3, n);
+    return out;
+}
+
+// Evenly thinned copy (the Doppler residuals: a few hundred constrain 3 velocity components well).
+std::vector<DopplerObservation> Thin(const std::vector<DopplerObservation> &all, int max_count) {
+    if (static_cast<int>(all.size()) <= max_count) return all;
+    std::vector<DopplerObservation> out;
+    out.reserve(static_cast<std::size_t>(max_count));
+    for (int k = 0; k < max_count; ++k) out.push_back(all[k * all.size() / max_count]);
+    return out;
+}
+
+// Evenly spaced columns, at most max_count: radar scans are too sparse for a voxel grid alone to
+// bound the registration cost.
+Eigen::Matrix3Xd ThinColumns(const Eigen::Matrix3Xd &points, int max_count) {
+    if (points.cols() <= max_count) return points;
+    Eigen::Matrix3Xd out(3, max_count);
+    for (int k = 0; k < max_count; ++k) out.col(k) = points.col(k * points.cols() / max_count);
+    return out;
+}
+
+void Require(bool ok, const char *key, const char *what) {
+    if (!ok) throw std::invalid_argument(std::string("mapper config: ") + key + " " + what);
+}
+
+}  // namespace
+
+void MapperConfig::Validate() const {
+    Require(min_range_m >= 0.0 && std::isfinite(min_range_m), "min_range_m", "must be >= 0");
+    Require(max_range_m > min_range_m, "max_range_m", "must be > min_range_m");
+    Require(scan_voxel_m > 0.0 && std::isfinite(scan_voxel_m), "scan_voxel_m", "must be > 0");
+    map.Validate();
+    Require(keyframe_distance_m >= 0.0, "keyframe_distance_m", "must be >= 0");
+    Require(keyframe_angle_deg >= 0.0, "keyframe_angle_deg", "must be >= 0");
+    Require(max_source_points >= 10, "max_source_points", "must be >= 10");
+    Require(max_iterations >= 1, "max_iterations", "must be >= 1");
+    Require(initial_threshold_m > 0.0, "initial_threshold_m", "must be > 0");
+    Require(min_threshold_m > 0.0, "min_threshold_m", "must be > 0");
+    Require(min_motion_m >= 0.0, "min_motion_m", "must be >= 0");
+    Require(covariance_neighbours >= 3, "covariance_neighbours", "must be >= 3");
+    Require(kernel_scale > 0.0, "kernel_scale", "must be > 0");
+    Require(point_sigma_m > 0.0, "point_sigma_m", "must be > 0");
+    Require(plane_flatness > 0.0 && plane_flatness <= 1.0, "plane_flatness", "must be in (0, 1]");
+    Require(doppler_sigma_mps > 0.0, "doppler_sigma_mps", "must be > 0");
+    Require(max_registration_residuals >= 1, "max_registration_residuals", "must be >= 1");
+    Require(max_doppler_residuals >= 0, "max_doppler_residuals", "must be >= 0");
+    Require(refine_max_iterations >= 1, "refine_max_iterations", "must be >= 1");
+    Require(refine_outer_iterations >= 1, "refine_outer_iterations", "must be >= 1");
+    Require(min_correspondences >= 6, "min_correspondences", "must be >= 6");
+    Require(max_rms_m > 0.0, "max_rms_m", "must be > 0");
+    Require(max_prior_mahalanobis_squared > 0.0, "max_prior_mahalanobis_squared", "must be > 0");
+    Require(registration_sigma_translation_m > 0.0, "registration_sigma_translation_m",
+            "must be > 0");
+    Require(registration_sigma_rotation_rad > 0.0, "registration_sigma_rotation_rad",
+            "must be > 0");
+    Require(min_observability >= 0.0 && min_observability < 1.0, "min_observability",
+            "must be in [0, 1)");
+}
+
+struct RadarMapper::State {
+    MapperConfig config;
+    Extrinsics extrinsics;
+    LocalMap map;
+    AdaptiveThreshold threshold;
+    bool has_pose = false;
+    Eigen::Isometry3d T_world_base_last = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_world_base_last_keyframe = Eigen::Isometry3d::Identity();
+    int fallbacks = 0;
+
+    State(const MapperConfig &c, const Extrinsics &e)
+        : config(c),
+          extrinsics(e),
+          map(c.map),
+          threshold(c.initial_threshold_m, c.min_threshold_m, c.min_motion_m, c.max_range_m) {}
+
+    bool IsKeyframe(const Eigen::Isometry3d &T) const {
+        if (config.keyframe_distance_m <= 0.0 && config.keyframe_angle_deg <= 0.0) return true;
+        const Eigen::Isometry3d delta = T_world_base_last_keyframe.inverse() * T;
+        return delta.translation().norm() >= config.keyframe_distance_m ||
+               RotationAngle(delta.linear()) * 180.0 / M_PI >= config.keyframe_angle_deg;
+    }
+};
+
+RadarMapper::RadarMapper(const MapperConfig &config, const Extrinsics &extrinsics) {
+    config.Validate();
+    state_ = std::make_unique<State>(config, extrinsics);
+}
+RadarMapper::~RadarMapper() = default;
+RadarMapper::RadarMapper(RadarMapper &&) noexcept = default;
+RadarMapper &RadarMapper::operator=(RadarMapper &&) noexcept = default;
+
+const LocalMap &RadarMapper::local_map() const {
+    return state_->map;
+}
+const MapperConfig &RadarMapper::config() const {
+    return state_->config;
+}
+int RadarMapper::fallbacks() const {
+    return state_->fallbacks;
+}
+
+RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const MotionPrior &prior,
+                                         double dt_s, const PointMask *static_mask) {
+    State &s = *state_;
+    const MapperConfig &config = s.config;
+    if (static_mask != nullptr && static_mask->size() != scan_radar.size())
+        throw std::invalid_argument("RadarMapper::Register: mask has " +
+                                    std::to_string(static_mask->size()) + " entries, scan has " +
+                                    std::to_string(scan_radar.size()) + " points");
+    if (s.has_pose && !(std::isfinite(dt_s) && dt_s > 0.0))
+        throw std::invalid_argument("RadarMapper::Register: dt must be finite and > 0");
+    if (!prior.T_world_base.matrix().allFinite() || !prior.covariance.allFinite())
+        throw std::invalid_argument("RadarMapper::Register: the prior is not finite");
+
+    const auto t_start = Clock::now();
+    RegistrationResult result;
+    result.T_world_base = prior.T_world_base;
+    result.threshold_m = s.threshold.Threshold();
+
+    // 1. Points: range gate, dynamic mask, base frame, voxel downsampling.
+    const ScanPoints points =
+        SelectScanPoints(scan_radar, static_mask, s.extrinsics.T_base_radar, config);
+    const Eigen::Matrix3Xd source_base =
+        ThinColumns(VoxelDownsample(points.p_base, config.scan_voxel_m), config.max_source_points);
+    result.source_points = static_cast<int>(source_base.cols());
+    result.times.preprocess_ms = MillisecondsSince(t_start);
+
+    auto fall_back = [&](const std::string &reason) {
+        result.fallback = true;
+        result.fallback_reason = reason;
+        result.T_world_base = prior.T_world_base;
+    };
+
+    if (s.map.empty()) {
+        result.first_scan = true;  // the first scan starts the map at the prior
+    } else if (result.source_points < config.min_correspondences) {
+        fall_back("too few points (" + std::to_string(result.source_points) + ")");
+    } else {
+        // 2. Scan-to-map registration from the prior (PCL), then the checks.
+        const auto t_reg = Clock::now();
+        const auto t_align = Clock::now();
+        const PclAlignment aligned =
+            AlignWithPcl(source_base, prior.T_world_base, s.map, config, result.threshold_m);
+        result.times.alignment_ms = MillisecondsSince(t_align);
+        Association association = Associate(source_base, aligned.T_world_base, s.map, config,
+                                            result.threshold_m, config.max_registration_residuals);
+        result.correspondences = association.count;
+        result.fitness_rms_m = association.rms_m;
+        result.observability = association.observability;
+        // The jump test: the prior's uncertainty plus the registration's own noise.
+        MotionPrior widened = prior;
+        widened.covariance.diagonal() +=
+            (Vector6d() << Eigen::Vector3d::Constant(config.registration_sigma_translation_m),
+             Eigen::Vector3d::Constant(config.registration_sigma_rotation_rad))
+                .finished()
+                .cwiseAbs2();
+        result.prior_mahalanobis_squared = PriorMahalanobisSquared(widened, aligned.T_world_base);
+        result.times.registration_ms = MillisecondsSince(t_reg);
+
+        if (!aligned.converged) {
+            fall_back("registration did not converge");
+        } else if (association.count < config.min_correspondences) {
+            fall_back("too few correspondences (" + std::to_string(association.count) + ")");
+        } else if (association.rms_m > config.max_rms_m) {
+            fall_back("bad fitness (rms " + std::to_string(association.rms_m) + " m)");
+        } else if (association.observability < config.min_observability) {
+            fall_back("degenerate geometry (observability " +
+                      std::to_string(association.observability) + ")");
+        } else if (result.prior_mahalanobis_squared > config.max_prior_mahalanobis_squared) {
+            fall_back("jump outside the prior (Mahalanobis^2 " +
+                      std::to_string(result.prior_mahalanobis_squared) + ")");
+        } else {
+            result.T_world_base = aligned.T_world_base;
+            // 3. Doppler-aware refinement (Ceres): registration + Doppler + prior residuals.
+            if (config.refinement == Refinement::kCeres) {
+                const auto t_refine = Clock::now();
+                const std::vector<DopplerObservation> doppler =
+                    (config.use_doppler && s.has_pose)
+                        ? Thin(points.doppler, config.max_doppler_residuals)
+                        : std::vector<DopplerObservation>{};
+                result.doppler_residuals = static_cast<int>(doppler.size());
+                for (int outer = 0; outer < config.refine_outer_iterations; ++outer) {
+                    if (outer > 0)
+                        association =
+                            Associate(source_base, result.T_world_base, s.map, config,
+                                      result.threshold_m, config.max_registration_residuals);
+                    if (association.count < config.min_correspondences) break;
+                    RefinementInput input{result.T_world_base,
+                                          &prior,
+                                          &association.matches,
+                                          &doppler,
+                                          s.T_world_base_last,
+                                          s.extrinsics.T_base_radar,
+                                          dt_s};
+                    const RefinementOutput refined = RefinePose(input, config);
+                    if (!refined.usable) break;
+                    result.T_world_base = refined.T_world_base;
+                }
+                result.correspondences = association.count;
+                result.fitness_rms_m = association.rms_m;
+                result.times.refinement_ms = MillisecondsSince(t_refine);
+            }
+            // kiss-icp: the threshold adapts to how far registration corrected the prior.
+            s.threshold.Update(prior.T_world_base.inverse() * result.T_world_base);
+        }
+    }
+    if (result.fallback) ++s.fallbacks;
+
+    // 4. Map update (keyframes only, when configured).
+    const auto t_map = Clock::now();
+    if ((!result.fallback || config.update_map_on_fallback) &&
+        (s.map.empty() || s.IsKeyframe(result.T_world_base))) {
+        s.map.Update(result.T_world_base * points.p_base, result.T_world_base.translation());
+        s.T_world_base_last_keyframe = result.T_world_base;
+        s.map.BuildIndex();  // the kd-tree is part of the map update's cost
+        result.map_updated = true;
+    }
+    result.times.map_update_ms = MillisecondsSince(t_map);
+
+    s.T_world_base_last = result.T_world_base;
+    s.has_pose = true;
+    result.times.total_ms = MillisecondsSince(t_start);
+    return result;
+}
+
+const char *ToString(RegistrationMethod method) {
+    switch (method) {
+        case RegistrationMethod::kPointToPoint:
+            return "point_to_point";
+        case RegistrationMethod::kPointToPlane:
+            return "point_to_plane";
+        case RegistrationMethod::kGicp:
+            return "gicp";
+    }
+    return "?";
+}
+
+const char *ToString(RobustKernel kernel) {
+    switch (kernel) {
+        case RobustKernel::kNone:
+            return "none";
+        case RobustKernel::kHuber:
+            return "huber";
+        case RobustKernel::kCauchy:
+            return "cauchy";
+        case RobustKernel::kTukey:
+            return "tukey";
+    }
+    return "?";
+}
+
+RegistrationMethod ParseRegistrationMethod(const std::string &name) {
+    for (auto m : {RegistrationMethod::kPointToPoint, RegistrationMethod::kPointToPlane,
+                   RegistrationMethod::kGicp})
+        if (name == ToString(m)) return m;
+    throw std::invalid_argument("unknown registration method '" + name +
+                                "' (point_to_point, point_to_plane, gicp)");
+}
+
+RobustKernel ParseRobustKernel(const std::string &name) {
+    for (auto k :
+         {RobustKernel::kNone, RobustKernel::kHuber, RobustKernel::kCauchy, RobustKernel::kTukey})
+        if (name == ToString(k)) return k;
+    throw std::invalid_argument("unknown robust kernel '" + name +
+                                "' (none, huber, cauchy, tukey)");
+}
+
+}  // namespace dorado::mapping

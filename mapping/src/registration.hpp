@@ -1,0 +1,77 @@
+#pragma once
+// Internal: the steps of RadarMapper::Register, one free function each, so that the mapper's loop
+// reads like the pipeline. PCL and Ceres stay inside the .cpp files that implement them.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "dorado/mapping/local_map.hpp"
+#include "dorado/mapping/motion_prior.hpp"
+#include "dorado/mapping/radar_mapper.hpp"
+
+namespace dorado::mapping {
+
+/// Voxel-grid downsampling (PCL VoxelGrid: one centroid per occupied voxel). downsample.cpp.
+[[nodiscard]] Eigen::Matrix3Xd VoxelDownsample(const Eigen::Matrix3Xd &points, double voxel_m);
+
+struct PclAlignment {
+    Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
+    bool converged = false;
+};
+
+/// Scan-to-map registration with PCL (point-to-point ICP, point-to-plane ICP or GICP) from the
+/// guess, with correspondences cut at threshold_m. registration.cpp.
+[[nodiscard]] PclAlignment AlignWithPcl(const Eigen::Matrix3Xd &source_base,
+                                        const Eigen::Isometry3d &T_world_base_guess,
+                                        const LocalMap &map, const MapperConfig &config,
+                                        double threshold_m);
+
+struct Correspondence {
+    Eigen::Vector3d p_base;
+    Eigen::Vector3d q_world;
+    Eigen::Matrix3d sqrt_information;  ///< whitening of the point-to-distribution error
+};
+
+struct Association {
+    std::vector<Correspondence> matches;  ///< thinned to at most max_matches
+    int count = 0;                        ///< all matches within the threshold
+    double rms_m = 0.0;
+    /// min over translation and rotation of lambda_min / lambda_max of the point-to-plane
+    /// information (1 = isotropic, 0 = a direction is not observed, e.g. one wall).
+    double observability = 0.0;
+};
+
+/// Nearest map point within threshold_m of each source point at T_world_base, with the map's
+/// local covariance. At most max_matches are kept (evenly spaced). association.cpp.
+[[nodiscard]] Association Associate(const Eigen::Matrix3Xd &source_base,
+                                    const Eigen::Isometry3d &T_world_base, const LocalMap &map,
+                                    const MapperConfig &config, double threshold_m,
+                                    int max_matches);
+
+struct DopplerObservation {
+    Eigen::Vector3d d_radar;  ///< unit direction to the point, radar frame
+    double doppler_mps;       ///< measured radial velocity, positive = receding
+};
+
+struct RefinementInput {
+    Eigen::Isometry3d T_world_base_initial;
+    const MotionPrior *prior = nullptr;
+    const std::vector<Correspondence> *matches = nullptr;
+    const std::vector<DopplerObservation> *doppler = nullptr;  ///< may be empty
+    Eigen::Isometry3d T_world_base_prev;
+    Eigen::Isometry3d T_base_radar;
+    double dt_s = 0.1;
+};
+
+struct RefinementOutput {
+    Eigen::Isometry3d T_world_base;
+    bool usable = false;
+    int iterations = 0;
+};
+
+/// Joint Ceres refinement of the new pose: registration + Doppler + prior residuals, robust loss
+/// on the first two. refinement.cpp.
+[[nodiscard]] RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &config);
+
+}  // namespace dorado::mapping

@@ -1,0 +1,89 @@
+#pragma once
+/// @file doppler_odometry.hpp
+/// The paper's Doppler-only odometry loop: per scan, the radar velocity (eq. 1-2), the vehicle
+/// twist from the kinematic model (eq. 5), integrated on SE(3) over the real time between scans.
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <string>
+
+#include "dorado/core/extrinsics.hpp"
+#include "dorado/core/radar_scan.hpp"
+#include "dorado/core/trajectory.hpp"
+#include "dorado/odometry/ego_velocity.hpp"
+#include "dorado/odometry/kinematic_model.hpp"
+
+namespace dorado::odometry {
+
+/// Where the rotation comes from.
+enum class RotationSource {
+    kDoppler,  ///< the kinematic model (eq. 5): radar only, the paper's method
+    kImu,      ///< gyro rotation + Doppler translation (the paper's "IMU + Doppler")
+    kImuOnly,  ///< gyro rotation, no translation (the paper's "IMU" curve; rotation RPE only)
+};
+
+struct DopplerOdometryConfig {
+    EgoVelocityConfig ego_velocity;
+    RotationSource rotation = RotationSource::kDoppler;
+    /// Stationary scans (see EgoVelocityConfig::stationary_speed_mps) integrate a zero twist.
+    bool zero_velocity_update = true;
+    /// A Doppler-derived |omega| above this is treated like an invalid scan (fallback) [rad/s].
+    double max_angular_rate_radps = 2.0;
+
+    /// Throws std::invalid_argument naming the first bad field.
+    void Validate() const;
+};
+
+/// What happened to one scan.
+struct OdometryStep {
+    int64_t stamp_ns = 0;
+    double dt_s = 0.0;        ///< time integrated for this scan (0 for the first)
+    bool integrated = false;  ///< false for a scan skipped for its stamp
+    std::string skip_reason;
+    EgoVelocityResult ego;
+    VehicleMotion motion;  ///< from the kinematic model (meaningful when ego.valid)
+    Eigen::Vector3d v_base_used_mps = Eigen::Vector3d::Zero();  ///< the twist integrated
+    Eigen::Vector3d omega_base_used_radps = Eigen::Vector3d::Zero();
+    bool used_fallback = false;
+    std::string fallback_reason;
+    Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();  ///< pose after this scan
+};
+
+class DopplerOdometry {
+  public:
+    /// Validates the config; throws std::invalid_argument for a bad config or an unobservable
+    /// mounting (see KinematicModel).
+    DopplerOdometry(DopplerOdometryConfig config, const Extrinsics &extrinsics,
+                    const VehicleGeometry &geometry);
+
+    /// Processes one scan. `gyro_base_radps` is the mean gyro rate over the interval since the
+    /// previous scan, rotated into the base frame (NaN when there is no IMU); it is needed only
+    /// for RotationSource::kImu / kImuOnly. The pose integrates the twist over the real time since
+    /// the previously integrated scan, so dropped scans lose no time:
+    ///   T_world_base(k) = T_world_base(k-1) * ExpSE3([v_base; omega_base] * dt)
+    /// (exact for a twist constant over the interval). Never throws on bad data.
+    OdometryStep Register(const RadarScan &scan_radar,
+                          const Eigen::Vector3d &gyro_base_radps = Eigen::Vector3d::Constant(NAN));
+
+    /// Base poses, one per integrated scan; the first is T_world_base = initial pose.
+    [[nodiscard]] const Trajectory &trajectory() const { return trajectory_; }
+    [[nodiscard]] const KinematicModel &model() const { return model_; }
+    void SetInitialPose(const Eigen::Isometry3d &T_world_base) { T_world_base_ = T_world_base; }
+
+  private:
+    // Chooses the twist to integrate for this scan (fills step.*_used and the fallback fields).
+    void ChooseTwist(const Eigen::Vector3d &gyro_base_radps, OdometryStep &step);
+
+    DopplerOdometryConfig config_;
+    EgoVelocityEstimator estimator_;
+    KinematicModel model_;
+    Trajectory trajectory_;
+    Eigen::Isometry3d T_world_base_ = Eigen::Isometry3d::Identity();
+    bool has_last_stamp_ = false;
+    int64_t last_stamp_ns_ = 0;
+    bool has_last_twist_ = false;
+    Eigen::Vector3d last_v_base_ = Eigen::Vector3d::Zero();
+    Eigen::Vector3d last_omega_base_ = Eigen::Vector3d::Zero();
+};
+
+}  // namespace dorado::odometry

@@ -1,0 +1,71 @@
+#pragma once
+/// @file kinematic_model.hpp
+/// Vehicle motion from the radar velocity through the paper's kinematic model (section III-B,
+/// eq. 3-5, covariance eq. 7).
+
+#include <Eigen/Core>
+
+#include "dorado/core/extrinsics.hpp"
+
+namespace dorado::odometry {
+
+/// Linear and angular velocity of the base frame (rear-axle centre), expressed in the base frame.
+struct VehicleMotion {
+    Eigen::Vector3d v_base_mps = Eigen::Vector3d::Zero();
+    Eigen::Vector3d omega_base_radps = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d cov_v_base = Eigen::Matrix3d::Zero();
+    Eigen::Matrix3d cov_omega_base = Eigen::Matrix3d::Zero();
+};
+
+/// The paper's kinematic constraints, in the base frame (X forward, Y left, Z up, origin at the
+/// rear-axle centre): points on the Z-ICR axis (the rear axle, x = 0) have no Y velocity, points on
+/// the Y-ICR axis (x = m, m = half wheelbase) have no Z velocity, and there is no roll (omega_x =
+/// 0).
+///
+/// Derivation (rigid body, eq. 3: v_p = v_s + omega x (p - s), s = radar position in base):
+///  - p_a = (0, s_y, 0):  p_a - s = (-s_x, 0, -s_z),
+///    v_ay = v_sy + omega_z (-s_x) - omega_x (-s_z) = v_sy - omega_z s_x + omega_x s_z = 0   (eq.
+///    3)
+///  - p_b = (m, 0, s_z):  p_b - s = (m - s_x, -s_y, 0),
+///    v_bz = v_sz + omega_x (-s_y) - omega_y (m - s_x) = v_sz - omega_x s_y - omega_y (m - s_x) = 0
+///                                                                                         (eq. 4)
+///  - with omega_x = 0:  omega = (0, v_sz / (m - s_x), v_sy / s_x)                          (eq. 5)
+/// Signs check: a radar ahead of the rear axle (s_x > 0) moving left (v_sy > 0) means a left turn,
+/// omega_z > 0 (counter-clockwise seen from above); a radar behind the middle (s_x < m) moving up
+/// means the nose pitches down (omega_y > 0 about the left-pointing Y axis), as on a crest.
+/// The paper's signs in eq. 5 agree with this derivation.
+/// The base velocity is v_base = v_s - omega x s (eq. 3 with p = base origin).
+class KinematicModel {
+  public:
+    /// Throws std::invalid_argument when s_x = 0 (yaw unobservable) or s_x = m (pitch
+    /// unobservable) to within 1 mm.
+    KinematicModel(const Extrinsics &extrinsics, const VehicleGeometry &geometry);
+
+    /// Vehicle motion from the radar velocity in the radar frame and its covariance. Covariances
+    /// by first-order propagation (eq. 7): J C_v J^T with J the exact (linear) Jacobian.
+    [[nodiscard]] VehicleMotion Motion(const Eigen::Vector3d &v_radar,
+                                       const Eigen::Matrix3d &cov_v_radar) const;
+
+    /// d omega_base / d v_radar (constant: the model is linear in v_radar).
+    [[nodiscard]] const Eigen::Matrix3d &OmegaJacobian() const { return J_omega_; }
+    /// d v_base / d v_radar.
+    [[nodiscard]] const Eigen::Matrix3d &VelocityJacobian() const { return J_v_base_; }
+
+    /// The sensor velocity in the base frame, v_s = R_base_radar v_radar.
+    [[nodiscard]] Eigen::Vector3d SensorVelocityInBase(const Eigen::Vector3d &v_radar) const;
+
+    /// Base velocity when omega comes from elsewhere (a gyro): v_base = v_s - omega x s.
+    [[nodiscard]] Eigen::Vector3d BaseVelocity(const Eigen::Vector3d &v_radar,
+                                               const Eigen::Vector3d &omega_base) const;
+
+    [[nodiscard]] const Eigen::Vector3d &p_base_radar() const { return p_base_radar_; }
+
+  private:
+    Eigen::Matrix3d R_base_radar_;
+    Eigen::Vector3d p_base_radar_;  ///< s, the radar position in the base frame
+    double half_wheelbase_m_;
+    Eigen::Matrix3d J_omega_;   ///< omega_base = J_omega_ v_radar
+    Eigen::Matrix3d J_v_base_;  ///< v_base = J_v_base_ v_radar
+};
+
+}  // namespace dorado::odometry

@@ -1,0 +1,98 @@
+#include "dorado/odometry/doppler_odometry.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "dorado/core/lie.hpp"
+#include "dorado/core/time.hpp"
+
+namespace dorado::odometry {
+
+void DopplerOdometryConfig::Validate() const {
+    ego_velocity.Validate();
+    if (!(max_angular_rate_radps > 0.0))
+        throw std::invalid_argument("odometry.max_angular_rate_radps: must be > 0");
+}
+
+DopplerOdometry::DopplerOdometry(DopplerOdometryConfig config, const Extrinsics &extrinsics,
+                                 const VehicleGeometry &geometry)
+    : config_((config.Validate(), std::move(config))),
+      estimator_(config_.ego_velocity),
+      model_(extrinsics, geometry) {}
+
+OdometryStep DopplerOdometry::Register(const RadarScan &scan_radar,
+                                       const Eigen::Vector3d &gyro_base_radps) {
+    OdometryStep step;
+    step.stamp_ns = scan_radar.stamp_ns;
+    if (has_last_stamp_ && scan_radar.stamp_ns <= last_stamp_ns_) {
+        step.skip_reason = "stamp " + std::to_string(scan_radar.stamp_ns) +
+                           " ns is not after the previous scan's " + std::to_string(last_stamp_ns_);
+        step.T_world_base = T_world_base_;
+        return step;
+    }
+    if (config_.rotation != RotationSource::kImuOnly) {
+        step.ego = estimator_.Estimate(scan_radar);
+        if (step.ego.valid) step.motion = model_.Motion(step.ego.v_radar_mps, step.ego.cov_v_radar);
+    }
+    ChooseTwist(gyro_base_radps, step);
+
+    step.dt_s = has_last_stamp_ ? NanosToSeconds(scan_radar.stamp_ns - last_stamp_ns_) : 0.0;
+    Vector6d xi;
+    xi << step.v_base_used_mps * step.dt_s, step.omega_base_used_radps * step.dt_s;
+    // Frames: T_world_base(k) = T_world_base(k-1) * T_base(k-1)_base(k); the increment is the
+    // body-frame twist integrated over dt.
+    if (step.dt_s > 0.0) T_world_base_ = T_world_base_ * ExpSE3(xi);
+    T_world_base_.linear() = ExpSO3(LogSO3(T_world_base_.linear()));  // keep R orthonormal
+    trajectory_.Append(scan_radar.stamp_ns, T_world_base_);
+    step.T_world_base = T_world_base_;
+    step.integrated = true;
+    has_last_stamp_ = true;
+    last_stamp_ns_ = scan_radar.stamp_ns;
+    return step;
+}
+
+void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, OdometryStep &step) {
+    const bool has_gyro = gyro_base_radps.allFinite();
+    auto fallback = [&](const std::string &why) {
+        step.used_fallback = true;
+        step.fallback_reason = why + (has_last_twist_ ? "; used the last valid twist"
+                                                      : "; no valid twist yet, used zero");
+        step.v_base_used_mps = last_v_base_;
+        step.omega_base_used_radps = last_omega_base_;
+    };
+    auto accept = [&](const Eigen::Vector3d &v, const Eigen::Vector3d &omega) {
+        step.v_base_used_mps = v;
+        step.omega_base_used_radps = omega;
+        last_v_base_ = v;
+        last_omega_base_ = omega;
+        has_last_twist_ = true;
+    };
+
+    if (config_.rotation == RotationSource::kImuOnly) {
+        if (has_gyro)
+            accept(Eigen::Vector3d::Zero(), gyro_base_radps);
+        else
+            fallback("no IMU samples in the interval");
+        return;
+    }
+    if (!step.ego.valid) return fallback(step.ego.reason);
+    if (config_.zero_velocity_update && step.ego.stationary)
+        return accept(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+
+    if (config_.rotation == RotationSource::kImu) {
+        if (has_gyro)
+            return accept(model_.BaseVelocity(step.ego.v_radar_mps, gyro_base_radps),
+                          gyro_base_radps);
+        step.fallback_reason = "no IMU samples in the interval: rotation from the Doppler model";
+        step.used_fallback = true;
+    }
+    if (step.motion.omega_base_radps.norm() > config_.max_angular_rate_radps) {
+        return fallback("angular rate " + std::to_string(step.motion.omega_base_radps.norm()) +
+                        " rad/s above max_angular_rate_radps");
+    }
+    const std::string note = step.fallback_reason;
+    accept(step.motion.v_base_mps, step.motion.omega_base_radps);
+    step.fallback_reason = note;
+}
+
+}  // namespace dorado::odometry

@@ -1,0 +1,282 @@
+// Sensor ego-velocity from one scan (paper section III-A): pre-filters, weights, robust fit,
+// covariance, validity.
+#include "dorado/odometry/ego_velocity.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "robust_fit.hpp"
+
+namespace dorado::odometry {
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+void Require(bool ok, const char *field, const std::string &what) {
+    if (!ok) throw std::invalid_argument(std::string("ego_velocity.") + field + ": " + what);
+}
+
+std::string Format(double value) {
+    std::ostringstream s;
+    s.precision(4);
+    s << value;
+    return s.str();
+}
+
+// eq. (2) weights from power, normalised to a largest weight of 1, and the inlier gate that
+// follows each point's Doppler noise.
+void AssignWeightsAndGates(const EgoVelocityConfig &config, const RadarScan &scan,
+                           internal::Workspace &ws) {
+    internal::DopplerSystem &s = ws.system;
+    const Eigen::Index n = s.size();
+    const double gate = config.gate_sigmas * config.doppler_sigma_mps;
+    s.gate2.setConstant(gate * gate);
+    if (!config.use_power || !scan.has_power) {
+        s.w.setOnes();
+        return;
+    }
+    // s.w holds the power [dB] of each used point on entry.
+    switch (config.power_weighting) {
+        case PowerWeighting::kSnr: {
+            // sigma_i^2 = sigma^2 (1 + N/S): w_i = sigma^2 / sigma_i^2 = 1 / (1 + 10^((ref-p)/10)).
+            const double ln10_10 = std::log(10.0) / 10.0;
+            s.w = 1.0 / (1.0 + ((config.snr_reference_db - s.w.array()) * ln10_10).exp());
+            const double max_scale2 = config.max_gate_scale * config.max_gate_scale;
+            s.gate2.array() *= s.w.array().inverse().min(max_scale2);
+            break;
+        }
+        case PowerWeighting::kLinear: {
+            const double p_max = s.w.maxCoeff();
+            s.w = ((s.w.array() - p_max) * (std::log(10.0) / 10.0)).exp();
+            break;
+        }
+        case PowerWeighting::kDecibel:
+            s.w = (s.w.array() - config.decibel_floor_db).max(0.0);
+            break;
+    }
+    const double w_max = n > 0 ? s.w.maxCoeff() : 0.0;
+    if (w_max > 0.0) s.w /= w_max;
+}
+
+// Pre-filters every point and builds eq. (1) for those that pass. Labels the rest kFiltered.
+void BuildSystem(const EgoVelocityConfig &config, const RadarScan &scan, internal::Workspace &ws,
+                 std::vector<PointLabel> &labels) {
+    const Eigen::Index N = scan.size();
+    const bool check_azimuth = config.min_azimuth_deg > -180.0 || config.max_azimuth_deg < 180.0;
+    const bool check_elevation =
+        config.min_elevation_deg > -90.0 || config.max_elevation_deg < 90.0;
+    const bool has_power_column = scan.power_db.size() == N;
+    internal::DopplerSystem &s = ws.system;
+    s.Resize(N);
+    ws.used_to_input.resize(N);
+    Eigen::Index n = 0;
+    for (Eigen::Index i = 0; i < N; ++i) {
+        const Eigen::Vector3d p = scan.xyz_radar.col(i);
+        const double power = has_power_column ? scan.power_db[i] : 0.0;
+        const double doppler = scan.doppler_mps.size() == N ? scan.doppler_mps[i] : NAN;
+        if (!p.allFinite() || !std::isfinite(doppler) || !std::isfinite(power)) continue;
+        const double range = p.norm();
+        if (range < config.min_range_m || range > config.max_range_m || range <= 0.0) continue;
+        if (power < config.min_power_db) continue;
+        if (check_azimuth) {
+            const double az = std::atan2(p.y(), p.x());
+            if (az < config.min_azimuth_deg * kDegToRad || az > config.max_azimuth_deg * kDegToRad)
+                continue;
+        }
+        if (check_elevation) {
+            const double el = std::asin(p.z() / range);
+            if (el < config.min_elevation_deg * kDegToRad ||
+                el > config.max_elevation_deg * kDegToRad)
+                continue;
+        }
+        s.A.row(n) = p.transpose() / range;  // d_i
+        s.b[n] = -doppler;                   // eq. (1): -doppler_i = d_i . v_radar
+        s.w[n] = power;
+        ws.used_to_input[n] = i;
+        labels[i] = PointLabel::kDynamic;  // until proven static
+        ++n;
+    }
+    // Shrinking keeps the first n rows of every column (conservativeResize).
+    s.A.conservativeResize(n, 3);
+    s.b.conservativeResize(n);
+    s.w.conservativeResize(n);
+    s.gate2.conservativeResize(n);
+    s.cell.conservativeResize(n);
+    ws.used_to_input.resize(n);
+}
+
+// Inflation of the covariance of an estimate refit on the points inside a hard +-k sigma gate.
+// Rejecting by residual makes the estimator a "skipped mean" with psi(z) = z 1{|z| < k}; its
+// asymptotic variance is sigma^2 E[psi^2] / E[psi']^2 with E[psi^2] = E[psi'] = P - 2 k phi(k),
+// P = P(|z| < k), while eq. (6) on the inliers estimates sigma^2 (P - 2 k phi(k)) / P^2.
+// The ratio (P / (P - 2 k phi(k)))^2 is 1.056 for k = 3 (measured: NEES 3.2 instead of 3).
+double GateConsistencyFactor(double k) {
+    const double P = std::erf(k / std::sqrt(2.0));
+    const double m2 = P - 2.0 * k * std::exp(-0.5 * k * k) / std::sqrt(2.0 * M_PI);
+    return m2 > 0.0 ? (P / m2) * (P / m2) : 1.0;
+}
+
+// Covariance of v (eq. 6 or the sandwich form) on the inliers; residuals in ws.residual.
+Eigen::Matrix3d Covariance(const EgoVelocityConfig &config, internal::Workspace &ws,
+                           const Eigen::Matrix3d &AtWA, int inliers, double &residual_sigma) {
+    const internal::DopplerSystem &s = ws.system;
+    const Eigen::Matrix3d H_inv = AtWA.inverse();
+    const double dof = std::max(inliers - 3, 1);
+    // ws.weighted = w_i * mask_i from the last SolveWeighted on the same mask.
+    const double rWr = (ws.weighted.array() * ws.residual.array().square()).sum();
+    residual_sigma = std::sqrt(rWr / dof);
+    const double gate_factor =
+        config.method == RobustMethod::kRansac ? GateConsistencyFactor(config.gate_sigmas) : 1.0;
+    if (config.covariance == CovarianceModel::kResidualScaled)
+        return gate_factor * rWr / dof * H_inv;
+    // Sandwich: H^-1 (sum (w_i r_i)^2 d_i d_i^T) H^-1, small-sample factor N / (N - 3).
+    ws.weighted_A = s.A.array().colwise() * (ws.weighted.array() * ws.residual.array());
+    const Eigen::Matrix3d meat = internal::SymmetricGram(ws.weighted_A, ws.weighted_A);
+    return gate_factor * (static_cast<double>(inliers) / dof) * H_inv * meat * H_inv;
+}
+
+}  // namespace
+
+void EgoVelocityConfig::Validate() const {
+    Require(min_range_m >= 0.0, "min_range_m", "must be >= 0");
+    Require(max_range_m > min_range_m, "max_range_m", "must be > min_range_m");
+    Require(
+        min_azimuth_deg >= -180.0 && min_azimuth_deg < max_azimuth_deg && max_azimuth_deg <= 180.0,
+        "min_azimuth_deg", "need -180 <= min_azimuth_deg < max_azimuth_deg <= 180");
+    Require(min_elevation_deg >= -90.0 && min_elevation_deg < max_elevation_deg &&
+                max_elevation_deg <= 90.0,
+            "min_elevation_deg", "need -90 <= min_elevation_deg < max_elevation_deg <= 90");
+    Require(!std::isnan(min_power_db), "min_power_db", "must be a number (-inf allowed)");
+    Require(std::isfinite(snr_reference_db), "snr_reference_db", "must be finite");
+    Require(std::isfinite(decibel_floor_db), "decibel_floor_db", "must be finite");
+    Require(doppler_sigma_mps > 0.0 && std::isfinite(doppler_sigma_mps), "doppler_sigma_mps",
+            "must be > 0");
+    Require(gate_sigmas > 0.0 && std::isfinite(gate_sigmas), "gate_sigmas", "must be > 0");
+    Require(max_gate_scale >= 1.0, "max_gate_scale", "must be >= 1");
+    Require(ransac_success_probability > 0.0 && ransac_success_probability < 1.0,
+            "ransac_success_probability", "must be in (0, 1)");
+    Require(ransac_min_iterations >= 1, "ransac_min_iterations", "must be >= 1");
+    Require(ransac_max_iterations >= ransac_min_iterations, "ransac_max_iterations",
+            "must be >= ransac_min_iterations");
+    Require(ransac_score_points == 0 || ransac_score_points >= 16, "ransac_score_points",
+            "must be 0 (all points) or >= 16");
+    Require(score_cells_azimuth >= 1 && score_cells_azimuth <= 256, "score_cells_azimuth",
+            "must be in [1, 256]");
+    Require(score_cells_elevation >= 1 && score_cells_elevation <= 256, "score_cells_elevation",
+            "must be in [1, 256]");
+    Require(refit_iterations >= 0, "refit_iterations", "must be >= 0");
+    Require(trim_mode != TrimMode::kPercent || (trim_value > 0.0 && trim_value <= 1.0),
+            "trim_value", "must be in (0, 1] for trim_mode percent");
+    Require(trim_value > 0.0 && std::isfinite(trim_value), "trim_value", "must be > 0");
+    Require(irls_max_iterations >= 1, "irls_max_iterations", "must be >= 1");
+    Require(min_points >= 4, "min_points", "must be >= 4 (3 unknowns + 1 for the covariance)");
+    Require(min_inliers >= 4, "min_inliers", "must be >= 4");
+    Require(min_inlier_ratio >= 0.0 && min_inlier_ratio <= 1.0, "min_inlier_ratio",
+            "must be in [0, 1]");
+    Require(max_condition_number > 1.0, "max_condition_number", "must be > 1");
+    Require(max_speed_mps > 0.0, "max_speed_mps", "must be > 0");
+    Require(stationary_speed_mps >= 0.0 && stationary_speed_mps < max_speed_mps,
+            "stationary_speed_mps", "must be in [0, max_speed_mps)");
+}
+
+struct EgoVelocityEstimator::Workspace : internal::Workspace {};
+
+EgoVelocityEstimator::EgoVelocityEstimator(EgoVelocityConfig config)
+    : config_(std::move(config)), workspace_(std::make_unique<Workspace>()) {
+    config_.Validate();
+}
+EgoVelocityEstimator::~EgoVelocityEstimator() = default;
+EgoVelocityEstimator::EgoVelocityEstimator(EgoVelocityEstimator &&) noexcept = default;
+EgoVelocityEstimator &EgoVelocityEstimator::operator=(EgoVelocityEstimator &&) noexcept = default;
+
+EgoVelocityResult EgoVelocityEstimator::Estimate(const RadarScan &scan_radar) {
+    EgoVelocityResult result;
+    internal::Workspace &ws = *workspace_;
+    result.labels.assign(scan_radar.size(), PointLabel::kFiltered);
+    if (scan_radar.empty()) {
+        result.reason = "empty scan";
+        return result;
+    }
+    BuildSystem(config_, scan_radar, ws, result.labels);
+    const Eigen::Index n = ws.system.size();
+    result.points_used = static_cast<int>(n);
+    if (n < config_.min_points) {
+        result.reason = "too few points after the pre-filters: " + std::to_string(n) + " < " +
+                        "min_points " + std::to_string(config_.min_points);
+        return result;
+    }
+    AssignWeightsAndGates(config_, scan_radar, ws);
+    if (!(ws.system.w.maxCoeff() > 0.0)) {
+        result.reason = "every point has zero weight (power at or below decibel_floor_db)";
+        return result;
+    }
+
+    ws.rng.seed(config_.seed);
+    Eigen::Vector3d v;
+    bool solved = false;
+    switch (config_.method) {
+        case RobustMethod::kRansac:
+            solved = internal::Ransac(config_, ws, v, result.iterations);
+            break;
+        case RobustMethod::kTrimmedIrls:
+            solved = internal::TrimmedIrls(config_, ws, v, result.iterations);
+            break;
+        case RobustMethod::kNone:
+            ws.mask.setOnes(n);
+            result.iterations = 1;
+            break;
+    }
+    // Final fit on the final inlier set, so that v and its covariance describe the same points.
+    Eigen::Matrix3d AtWA;
+    solved = (solved || config_.method == RobustMethod::kNone) &&
+             internal::SolveWeighted(ws.system, ws.mask, ws, v, AtWA);
+    if (!solved) {
+        result.reason = "degenerate geometry: the point directions do not span 3-D";
+        return result;
+    }
+    ws.residual.noalias() = ws.system.A * v;
+    ws.residual -= ws.system.b;
+    result.inliers = static_cast<int>(ws.mask.sum());
+    for (Eigen::Index k = 0; k < n; ++k)
+        if (ws.mask[k] > 0.0) result.labels[ws.used_to_input[k]] = PointLabel::kStatic;
+
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(AtWA, Eigen::EigenvaluesOnly);
+    const double lambda_min = eig.eigenvalues()[0], lambda_max = eig.eigenvalues()[2];
+    result.condition_number = lambda_min > 0.0 ? std::sqrt(lambda_max / lambda_min)
+                                               : std::numeric_limits<double>::infinity();
+    result.v_radar_mps = v;
+    result.cov_v_radar = Covariance(config_, ws, AtWA, result.inliers, result.residual_sigma_mps);
+    result.stationary = v.norm() < config_.stationary_speed_mps;
+
+    const double ratio = static_cast<double>(result.inliers) / static_cast<double>(n);
+    if (result.inliers < config_.min_inliers || ratio < config_.min_inlier_ratio) {
+        result.reason = "too few static inliers: " + std::to_string(result.inliers) + " of " +
+                        std::to_string(n) + " points (min_inliers " +
+                        std::to_string(config_.min_inliers) + ", min_inlier_ratio " +
+                        Format(config_.min_inlier_ratio) + ")";
+    } else if (!(result.condition_number <= config_.max_condition_number)) {
+        result.reason = "degenerate geometry: condition number " + Format(result.condition_number) +
+                        " > max_condition_number " + Format(config_.max_condition_number);
+    } else if (!v.allFinite() || !result.cov_v_radar.allFinite()) {
+        result.reason = "non-finite velocity or covariance";
+    } else if (v.norm() > config_.max_speed_mps) {
+        result.reason = "speed " + Format(v.norm()) + " m/s above max_speed_mps " +
+                        Format(config_.max_speed_mps);
+    } else {
+        result.valid = true;
+    }
+    return result;
+}
+
+Eigen::Matrix3d VelocityCramerRaoBound(const Eigen::Matrix3Xd &directions,
+                                       const Eigen::VectorXd &sigma_mps) {
+    const Eigen::Matrix3Xd weighted =
+        directions.array().rowwise() * sigma_mps.array().square().inverse().transpose();
+    const Eigen::Matrix3d fisher = weighted * directions.transpose();
+    return fisher.inverse();
+}
+
+}  // namespace dorado::odometry

@@ -1,0 +1,53 @@
+#include "dorado/odometry/kinematic_model.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "dorado/core/lie.hpp"
+
+namespace dorado::odometry {
+
+KinematicModel::KinematicModel(const Extrinsics &extrinsics, const VehicleGeometry &geometry)
+    : R_base_radar_(extrinsics.T_base_radar.linear()),
+      p_base_radar_(extrinsics.T_base_radar.translation()),
+      half_wheelbase_m_(geometry.half_wheelbase_m) {
+    const double s_x = p_base_radar_.x(), m = half_wheelbase_m_;
+    if (!std::isfinite(s_x) || std::abs(s_x) < 1e-3)
+        throw std::invalid_argument(
+            "extrinsics.T_base_radar: the radar is on the rear axle (s_x = " + std::to_string(s_x) +
+            " m): the yaw rate is unobservable from its velocity (eq. 5)");
+    if (!std::isfinite(m) || std::abs(m - s_x) < 1e-3)
+        throw std::invalid_argument(
+            "vehicle.half_wheelbase_m: the radar is on the Y-ICR axis (m - s_x = " +
+            std::to_string(m - s_x) + " m): the pitch rate is unobservable (eq. 5)");
+    // eq. (5) as a matrix on v_s (base frame): omega_y = v_sz / (m - s_x), omega_z = v_sy / s_x.
+    Eigen::Matrix3d J_omega_vs = Eigen::Matrix3d::Zero();
+    J_omega_vs(1, 2) = 1.0 / (m - s_x);
+    J_omega_vs(2, 1) = 1.0 / s_x;
+    J_omega_ = J_omega_vs * R_base_radar_;
+    // v_base = v_s - omega x s = v_s + s x omega = (I + Hat(s) J_omega_vs) v_s.
+    J_v_base_ = (Eigen::Matrix3d::Identity() + Hat(p_base_radar_) * J_omega_vs) * R_base_radar_;
+}
+
+VehicleMotion KinematicModel::Motion(const Eigen::Vector3d &v_radar,
+                                     const Eigen::Matrix3d &cov_v_radar) const {
+    VehicleMotion motion;
+    motion.omega_base_radps = J_omega_ * v_radar;
+    motion.v_base_mps = J_v_base_ * v_radar;
+    // eq. (7): C_omega = J C_v J^T (exact: the model is linear in v).
+    motion.cov_omega_base = J_omega_ * cov_v_radar * J_omega_.transpose();
+    motion.cov_v_base = J_v_base_ * cov_v_radar * J_v_base_.transpose();
+    return motion;
+}
+
+Eigen::Vector3d KinematicModel::SensorVelocityInBase(const Eigen::Vector3d &v_radar) const {
+    return R_base_radar_ * v_radar;
+}
+
+Eigen::Vector3d KinematicModel::BaseVelocity(const Eigen::Vector3d &v_radar,
+                                             const Eigen::Vector3d &omega_base) const {
+    return R_base_radar_ * v_radar - omega_base.cross(p_base_radar_);
+}
+
+}  // namespace dorado::odometry

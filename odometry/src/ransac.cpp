@@ -1,0 +1,200 @@
+// RANSAC for the sensor velocity (paper section III-A), with the three changes that real radar
+// data needs: the winning model is refit on its inliers (LO-RANSAC), hypotheses are scored by the
+// spread of their inliers over directions (a crowd moving together cannot outvote the static
+// world that surrounds the sensor), and the inlier gate follows each point's Doppler noise.
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include "robust_fit.hpp"
+
+namespace dorado::odometry::internal {
+namespace {
+
+// |det| of three unit directions = volume of their parallelepiped; below this the three
+// equations of eq. (1) are nearly dependent and the minimal solution is noise.
+constexpr double kMinSampleVolume = 1e-4;
+
+// The minimal model: eq. (1) for three points solved exactly.
+bool SolveMinimal(const DopplerSystem &s, Eigen::Index i, Eigen::Index j, Eigen::Index k,
+                  Eigen::Vector3d &v) {
+    Eigen::Matrix3d M;
+    M.row(0) = s.A.row(i);
+    M.row(1) = s.A.row(j);
+    M.row(2) = s.A.row(k);
+    if (std::abs(M.determinant()) < kMinSampleVolume) return false;
+    v = M.partialPivLu().solve(Eigen::Vector3d(s.b[i], s.b[j], s.b[k]));
+    return v.allFinite();
+}
+
+// A cheap angle proxy, monotonic in atan2(y, x), in [0, 4), wrapping at the -X axis of the
+// rotated frame (see AssignCells). Used only to bin directions.
+double PseudoAngle(double x, double y) {
+    const double ax = std::abs(x), ay = std::abs(y);
+    if (ax + ay == 0.0) return 2.0;
+    // Diamond angle of (-x, -y): 0 at -X, 2 at +X.
+    const double px = -x, py = -y;
+    if (py >= 0) return px >= 0 ? py / (px + py) : 1.0 - px / (-px + py);
+    return px < 0 ? 2.0 - py / (-px - py) : 3.0 + px / (px - py);
+}
+
+// Direction cells for the spread-aware RANSAC score: an azimuth x elevation grid over the
+// extent of this scan's directions, azimuth measured from the mean horizontal direction.
+void AssignCells(const EgoVelocityConfig &config, DopplerSystem &s, Eigen::VectorXd &azimuth) {
+    const Eigen::Index n = s.size();
+    s.num_cells = config.score_cells_azimuth * config.score_cells_elevation;
+    if (s.num_cells == 1 || n == 0) {
+        s.cell.setZero();
+        return;
+    }
+    Eigen::Vector2d mean(s.A.col(0).sum(), s.A.col(1).sum());
+    mean = mean.norm() > 1e-9 * n ? Eigen::Vector2d(mean.normalized()) : Eigen::Vector2d(1, 0);
+    const double el_min = s.A.col(2).minCoeff(), el_max = s.A.col(2).maxCoeff();
+    azimuth.resize(n);
+    for (Eigen::Index i = 0; i < n; ++i)
+        azimuth[i] = PseudoAngle(mean.x() * s.A(i, 0) + mean.y() * s.A(i, 1),
+                                 -mean.y() * s.A(i, 0) + mean.x() * s.A(i, 1));
+    const double az_min = azimuth.minCoeff(), az_max = azimuth.maxCoeff();
+    const double az_scale = config.score_cells_azimuth / std::max(az_max - az_min, 1e-9);
+    const double el_scale = config.score_cells_elevation / std::max(el_max - el_min, 1e-9);
+    for (Eigen::Index i = 0; i < n; ++i) {
+        const int ca = std::min(config.score_cells_azimuth - 1,
+                                static_cast<int>((azimuth[i] - az_min) * az_scale));
+        const int ce = std::min(config.score_cells_elevation - 1,
+                                static_cast<int>((s.A(i, 2) - el_min) * el_scale));
+        s.cell[i] = ce * config.score_cells_azimuth + ca;
+    }
+}
+
+// Spread-aware MSAC score: each inlier contributes its quality 1 - r^2/gate^2 to its direction
+// cell, and a cell contributes sqrt(its sum). Returns the score; `inliers` gets the count.
+double Score(const DopplerSystem &s, const Eigen::Vector3d &v, Workspace &ws, int &inliers) {
+    const Eigen::Index n = s.size();
+    ws.residual.head(n).noalias() = s.A * v;
+    ws.residual.head(n) -= s.b;
+    ws.cell_score.setZero();
+    ws.cell_inliers.setZero();
+    inliers = 0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+        const double r2 = ws.residual[i] * ws.residual[i];
+        if (r2 < s.gate2[i]) {
+            ws.cell_score[s.cell[i]] += 1.0 - r2 / s.gate2[i];
+            ++ws.cell_inliers[s.cell[i]];
+            ++inliers;
+        }
+    }
+    return ws.cell_score.sqrt().sum();
+}
+
+// Copies a random subset of `count` rows of `from` into `to` (partial Fisher-Yates).
+void DrawSubset(const DopplerSystem &from, Eigen::Index count, Workspace &ws, DopplerSystem &to) {
+    const Eigen::Index n = from.size();
+    ws.shuffle.resize(n);
+    std::iota(ws.shuffle.begin(), ws.shuffle.end(), 0);
+    to.Resize(count);
+    for (Eigen::Index k = 0; k < count; ++k) {
+        std::uniform_int_distribution<Eigen::Index> pick(k, n - 1);
+        std::swap(ws.shuffle[k], ws.shuffle[pick(ws.rng)]);
+        const Eigen::Index i = ws.shuffle[k];
+        to.A.row(k) = from.A.row(i);
+        to.b[k] = from.b[i];
+        to.w[k] = from.w[i];
+        to.gate2[k] = from.gate2[i];
+    }
+}
+
+// Fraction of the occupied direction cells in which the last scored hypothesis explains the
+// majority of the points. A static world scores high; a crowd moving together (a bus) wins only
+// its own few cells.
+double CellCoverage(const Workspace &ws) {
+    int occupied = 0, won = 0;
+    for (Eigen::Index c = 0; c < ws.cell_total.size(); ++c) {
+        if (ws.cell_total[c] == 0) continue;
+        ++occupied;
+        won += 2 * ws.cell_inliers[c] > ws.cell_total[c];
+    }
+    return occupied ? static_cast<double>(won) / occupied : 0.0;
+}
+
+// Iterations needed to draw one all-inlier sample with the given probability.
+int RequiredIterations(double inlier_ratio, double success_probability) {
+    const double p_good = inlier_ratio * inlier_ratio * inlier_ratio;
+    if (p_good >= 1.0) return 1;
+    if (p_good <= 0.0) return std::numeric_limits<int>::max();
+    const double k = std::log(1.0 - success_probability) / std::log(1.0 - p_good);
+    return k > 1e9 ? std::numeric_limits<int>::max() : static_cast<int>(std::ceil(k));
+}
+
+}  // namespace
+
+bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, int &iterations) {
+    const DopplerSystem &all = ws.system;
+    const Eigen::Index n = all.size();
+    const bool use_subset = config.ransac_score_points > 0 && n > config.ransac_score_points;
+    if (use_subset) DrawSubset(all, config.ransac_score_points, ws, ws.subset);
+    if (!use_subset) ws.subset = all;  // cells are assigned on the points RANSAC scores
+    DopplerSystem &s = ws.subset;
+    AssignCells(config, s, ws.sort_buffer);
+    const Eigen::Index m = s.size();
+    ws.residual.resize(m);
+    ws.cell_score.resize(s.num_cells);
+    ws.cell_inliers.resize(s.num_cells);
+    ws.cell_total.setZero(s.num_cells);
+    for (Eigen::Index i = 0; i < m; ++i) ++ws.cell_total[s.cell[i]];
+
+    std::uniform_int_distribution<Eigen::Index> pick(0, m - 1);
+    double best_score = -1.0;
+    Eigen::Vector3d best_v = Eigen::Vector3d::Zero();
+    int needed = config.ransac_min_iterations;
+    Eigen::Vector3d candidate;
+    Eigen::Matrix3d AtWA;
+    iterations = 0;
+    for (; iterations < std::max(needed, config.ransac_min_iterations) &&
+           iterations < config.ransac_max_iterations;
+         ++iterations) {
+        const Eigen::Index i = pick(ws.rng), j = pick(ws.rng), k = pick(ws.rng);
+        if (i == j || j == k || i == k || !SolveMinimal(s, i, j, k, candidate)) continue;
+        int count = 0;
+        double score = Score(s, candidate, ws, count);
+        if (score <= best_score) continue;
+        // Local optimisation: refit on this hypothesis' inliers of the subset (eq. 2), keep the
+        // refit when it scores better. Cheap, and turns the noisy 3-point model into a good one.
+        for (int round = 0; round < 2; ++round) {
+            ClassifyInliers(s, candidate, ws, ws.mask);
+            Eigen::Vector3d refit;
+            if (!SolveWeighted(s, ws.mask, ws, refit, AtWA)) break;
+            int refit_count = 0;
+            const double refit_score = Score(s, refit, ws, refit_count);
+            if (refit_score <= score) break;
+            candidate = refit;
+            score = refit_score;
+            count = refit_count;
+        }
+        best_score = score;
+        best_v = candidate;
+        // Stopping rule: the usual one on the inlier ratio, discounted by the cell coverage, so
+        // that a compact crowd holding most points does not stop the search before an
+        // all-static sample is drawn (the static world then wins on score).
+        Score(s, candidate, ws, count);
+        const double ratio = static_cast<double>(count) / static_cast<double>(m);
+        needed = RequiredIterations(ratio * CellCoverage(ws), config.ransac_success_probability);
+    }
+    if (best_score < 0.0) return false;
+
+    // Refit on the inliers among all points, re-gate, until the inlier set settles.
+    v = best_v;
+    int previous = ClassifyInliers(all, v, ws, ws.mask);
+    for (int round = 0; round < config.refit_iterations; ++round) {
+        Eigen::Vector3d refit;
+        if (!SolveWeighted(all, ws.mask, ws, refit, AtWA)) break;
+        v = refit;
+        const int count = ClassifyInliers(all, v, ws, ws.mask);
+        if (count == previous) break;
+        previous = count;
+    }
+    return true;
+}
+
+}  // namespace dorado::odometry::internal

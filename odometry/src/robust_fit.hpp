@@ -1,0 +1,67 @@
+#pragma once
+// Internal to dorado_odometry: the linear system of eq. (1)-(2) and the robust solvers on it.
+
+#include <Eigen/Core>
+#include <random>
+#include <vector>
+
+#include "dorado/odometry/ego_velocity.hpp"
+
+namespace dorado::odometry::internal {
+
+/// Eq. (1) for every point that passed the pre-filters: row i of A is d_i^T and b_i = -doppler_i,
+/// so that A v_radar = b for a static scene.
+struct DopplerSystem {
+    Eigen::Matrix<double, Eigen::Dynamic, 3> A;
+    Eigen::VectorXd b;
+    Eigen::VectorXd w;      ///< weights of eq. (2), largest = 1
+    Eigen::VectorXd gate2;  ///< squared inlier gate per point [m^2/s^2]
+    Eigen::VectorXi cell;   ///< direction cell of each point, for spread-aware scoring
+    int num_cells = 1;
+
+    [[nodiscard]] Eigen::Index size() const { return b.size(); }
+    void Resize(Eigen::Index n);
+};
+
+/// Buffers reused from scan to scan so that the RANSAC loop never allocates.
+struct Workspace {
+    DopplerSystem system;                     ///< all used points
+    DopplerSystem subset;                     ///< the random subset RANSAC scores hypotheses on
+    std::vector<Eigen::Index> used_to_input;  ///< row of `system` -> index in the scan
+    std::vector<Eigen::Index> shuffle;
+    Eigen::VectorXd residual, mask, weighted, sort_buffer;
+    Eigen::Matrix<double, Eigen::Dynamic, 3> weighted_A;
+    Eigen::ArrayXd cell_score;
+    Eigen::ArrayXi cell_inliers, cell_total;
+    std::mt19937_64 rng;
+};
+
+/// X^T Y for two N x 3 matrices, as nine column dot products (Eigen's GEMM path packs and is
+/// several times slower for this shape).
+Eigen::Matrix3d Gram(const Eigen::Matrix<double, Eigen::Dynamic, 3> &X,
+                     const Eigen::Matrix<double, Eigen::Dynamic, 3> &Y);
+
+/// X^T Y when it is known to be symmetric (six dot products).
+Eigen::Matrix3d SymmetricGram(const Eigen::Matrix<double, Eigen::Dynamic, 3> &X,
+                              const Eigen::Matrix<double, Eigen::Dynamic, 3> &Y);
+
+/// Weighted least squares (eq. 2) on the rows with mask_i = 1: v = (A^T W A)^-1 A^T W b.
+/// `AtWA` receives A^T W A. False when A^T W A is singular.
+bool SolveWeighted(const DopplerSystem &system, const Eigen::VectorXd &mask, Workspace &ws,
+                   Eigen::Vector3d &v, Eigen::Matrix3d &AtWA);
+
+/// Sets ws.residual = A v - b and mask_i = 1 where residual_i^2 < gate2_i; returns the count.
+int ClassifyInliers(const DopplerSystem &system, const Eigen::Vector3d &v, Workspace &ws,
+                    Eigen::VectorXd &mask);
+
+/// RANSAC with 3-point samples, spread-aware MSAC scoring on ws.subset, local refits, then
+/// refit-and-regate on all points. Leaves the inlier mask in ws.mask. False when no
+/// non-degenerate sample was found.
+bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, int &iterations);
+
+/// The paper's reference trimmed IRLS: start from every point, refit on the points its
+/// threshold keeps, until the velocity stops moving. Leaves the inlier mask in ws.mask.
+bool TrimmedIrls(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v,
+                 int &iterations);
+
+}  // namespace dorado::odometry::internal

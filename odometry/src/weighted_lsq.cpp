@@ -1,0 +1,64 @@
+// Weighted least squares of eq. (2) on a masked subset of the Doppler system.
+#include <Eigen/Cholesky>
+
+#include "robust_fit.hpp"
+
+namespace dorado::odometry::internal {
+
+void DopplerSystem::Resize(Eigen::Index n) {
+    A.resize(n, 3);
+    b.resize(n);
+    w.resize(n);
+    gate2.resize(n);
+    cell.resize(n);
+}
+
+Eigen::Matrix3d Gram(const Eigen::Matrix<double, Eigen::Dynamic, 3> &X,
+                     const Eigen::Matrix<double, Eigen::Dynamic, 3> &Y) {
+    Eigen::Matrix3d G;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) G(i, j) = X.col(i).dot(Y.col(j));
+    return G;
+}
+
+Eigen::Matrix3d SymmetricGram(const Eigen::Matrix<double, Eigen::Dynamic, 3> &X,
+                              const Eigen::Matrix<double, Eigen::Dynamic, 3> &Y) {
+    Eigen::Matrix3d G;
+    for (int i = 0; i < 3; ++i)
+        for (int j = i; j < 3; ++j) G(i, j) = G(j, i) = X.col(i).dot(Y.col(j));
+    return G;
+}
+
+bool SolveWeighted(const DopplerSystem &system, const Eigen::VectorXd &mask, Workspace &ws,
+                   Eigen::Vector3d &v, Eigen::Matrix3d &AtWA) {
+    const Eigen::Index n = system.size();
+    ws.weighted.resize(n);
+    ws.weighted_A.resize(n, 3);
+    ws.weighted.array() = system.w.head(n).array() * mask.head(n).array();
+    // eq. (2): v = (A^T W A)^-1 (A^T W b), W = diag(w_i * mask_i).
+    ws.weighted_A = system.A.array().colwise() * ws.weighted.array();
+    AtWA = SymmetricGram(ws.weighted_A, system.A);
+    const Eigen::Vector3d AtWb(ws.weighted_A.col(0).dot(system.b),
+                               ws.weighted_A.col(1).dot(system.b),
+                               ws.weighted_A.col(2).dot(system.b));
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(AtWA);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
+    // A pivot of ~0 means the weighted directions span less than 3-D.
+    const double max_pivot = ldlt.vectorD().maxCoeff();
+    if (!(ldlt.vectorD().minCoeff() > 1e-12 * max_pivot)) return false;
+    v = ldlt.solve(AtWb);
+    return v.allFinite();
+}
+
+int ClassifyInliers(const DopplerSystem &system, const Eigen::Vector3d &v, Workspace &ws,
+                    Eigen::VectorXd &mask) {
+    const Eigen::Index n = system.size();
+    ws.residual.resize(n);
+    mask.resize(n);
+    ws.residual.noalias() = system.A * v;
+    ws.residual -= system.b;
+    mask = (ws.residual.array().square() < system.gate2.array()).cast<double>();
+    return static_cast<int>(mask.sum());
+}
+
+}  // namespace dorado::odometry::internal

@@ -1,0 +1,154 @@
+// `dorado odometry` and `dorado calibrate` end to end on a bag written by the real ROS tools
+// (make_odometry_bag.py): a vehicle driving a flat circle with a known constant twist.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "dorado/core/lie.hpp"
+#include "dorado/core/time.hpp"
+#include "dorado/io/trajectory_io.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+class CmdOdometry : public ::testing::Test {
+  protected:
+    static void SetUpTestSuite() {
+        dir_ =
+            fs::path(::testing::TempDir()) / ("dorado_cmd_odometry_" + std::to_string(::getpid()));
+        const std::string cmd = std::string(DORADO_SYSTEM_PYTHON) + " " + DORADO_SOURCE_DIR +
+                                "/tests/odometry/make_odometry_bag.py " + dir_.string();
+        ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    }
+    static void TearDownTestSuite() { fs::remove_all(dir_); }
+
+    // Runs dorado with the arguments; returns the exit code, stderr in `err`.
+    static int Dorado(const std::string &args, std::string *err = nullptr) {
+        const std::string log = (dir_ / "stderr.txt").string();
+        const std::string cmd = std::string(DORADO_BINARY) + " " + args + " 2> " + log;
+        const int status = std::system(cmd.c_str());
+        std::ifstream in(log);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        if (err) *err = ss.str();
+        return WEXITSTATUS(status);
+    }
+    static std::string Dataset() { return (dir_ / "dataset.yaml").string(); }
+    static fs::path dir_;
+};
+fs::path CmdOdometry::dir_;
+
+// The truth: constant speed 2 m/s and yaw rate 0.4 rad/s from the first scan on.
+Eigen::Isometry3d TruePose(double t_s) {
+    dorado::Vector6d xi;
+    xi << 2.0, 0, 0, 0, 0, 0.4;
+    return dorado::ExpSE3(xi * t_s);
+}
+
+TEST_F(CmdOdometry, DopplerOdometryFollowsTheCircleAndReportsTheBadScan) {
+    const fs::path out = dir_ / "doppler";
+    std::string err;
+    ASSERT_EQ(Dorado("odometry " + Dataset() + " --out " + out.string() + " --masks", &err), 0)
+        << err;
+    const auto trajectory = dorado::io::ReadTum((out / "trajectory.tum").string());
+    ASSERT_EQ(trajectory.size(), 60u);
+    const auto &first = trajectory[0], &last = trajectory[trajectory.size() - 1];
+    const double T = dorado::NanosToSeconds(last.stamp_ns - first.stamp_ns);
+    const Eigen::Isometry3d truth = TruePose(T);
+    const double position_error = (last.T_world_body.translation() - truth.translation()).norm();
+    const double yaw_error =
+        dorado::RotationAngle(last.T_world_body.linear().transpose() * truth.linear());
+    std::printf("Doppler-only after %.1f s: %.3f m, %.3f deg\n", T, position_error,
+                yaw_error * 57.3);
+    EXPECT_LT(position_error, 0.15);  // 11.8 m of path
+    EXPECT_LT(yaw_error, 0.03);
+
+    const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+    EXPECT_EQ(summary["scans"], 60);
+    EXPECT_EQ(summary["scans_with_fallback_twist"], 1);
+    EXPECT_NEAR(summary["inlier_ratio"]["median"].get<double>(), 0.8, 0.01);  // 20 % moving
+
+    std::ifstream csv(out / "velocities.csv");
+    std::string header, line;
+    std::getline(csv, header);
+    EXPECT_EQ(header.rfind("t,v_radar_x,v_radar_y,v_radar_z,cov_v_xx", 0), 0u);
+    EXPECT_NE(header.find("gyro_base_x,gyro_base_y,gyro_base_z,time_ms"), std::string::npos);
+    int rows = 0, invalid = 0;
+    while (std::getline(csv, line)) {
+        ++rows;
+        invalid += line.find(",0,\"") != std::string::npos;
+    }
+    EXPECT_EQ(rows, 60);
+    EXPECT_EQ(invalid, 1);
+
+    // Masks: 400 labels per scan, the first 80 points (the crossing car) dynamic.
+    std::ifstream mask(out / "masks" / "000010.txt");
+    std::getline(mask, line);
+    int dynamic = 0, total = 0, label;
+    while (mask >> label) dynamic += (total++ < 80) == (label == 1);
+    EXPECT_EQ(total, 400);
+    EXPECT_GE(dynamic, 390);
+}
+
+TEST_F(CmdOdometry, ImuRotationAndImuOnly) {
+    for (const std::string mode : {"imu", "imu-only"}) {
+        const fs::path out = dir_ / mode;
+        std::string err;
+        ASSERT_EQ(Dorado("odometry " + Dataset() + " --rotation " + mode + " --out " + out.string(),
+                         &err),
+                  0)
+            << err;
+        const auto trajectory = dorado::io::ReadTum((out / "trajectory.tum").string());
+        const auto &last = trajectory[trajectory.size() - 1];
+        const double T = dorado::NanosToSeconds(last.stamp_ns - trajectory[0].stamp_ns);
+        // The gyro is exact here, so the rotation is (up to the first interval without IMU).
+        EXPECT_NEAR(dorado::RotationAngle(last.T_world_body.linear()), 0.4 * T, 0.05) << mode;
+        if (mode == "imu-only")
+            EXPECT_LT(last.T_world_body.translation().norm(), 1e-9);
+        else
+            EXPECT_LT((last.T_world_body.translation() - TruePose(T).translation()).norm(), 0.3);
+    }
+}
+
+TEST_F(CmdOdometry, CalibrateSxRecoversTheLeverArm) {
+    const fs::path out = dir_ / "sx.yaml";
+    std::string err;
+    ASSERT_EQ(Dorado("calibrate sx " + Dataset() + " --out " + out.string(), &err), 0) << err;
+    std::ifstream in(out);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string yaml = ss.str();
+    const auto pos = yaml.find("translation_m: [");
+    ASSERT_NE(pos, std::string::npos) << yaml;
+    const double s_x = std::stod(yaml.substr(pos + 16));
+    EXPECT_NEAR(s_x, 0.9, 0.02) << yaml;
+    EXPECT_NE(yaml.find("rotation_rpy_deg: [0, 0, 10"), std::string::npos) << yaml;
+}
+
+TEST_F(CmdOdometry, BadInputGivesOneClearError) {
+    std::ofstream(dir_ / "bad.yaml") << "ego_velocity:\n  gate_sigma: 3\n";
+    std::string err;
+    EXPECT_EQ(Dorado("odometry " + Dataset() + " --out " + (dir_ / "x").string() + " --config " +
+                         (dir_ / "bad.yaml").string(),
+                     &err),
+              1);
+    EXPECT_NE(err.find("bad.yaml: key 'ego_velocity.gate_sigma': unknown key"), std::string::npos)
+        << err;
+    std::ofstream(dir_ / "bad2.yaml") << "ego_velocity:\n  gate_sigmas: -3\n";
+    EXPECT_EQ(Dorado("odometry " + Dataset() + " --out " + (dir_ / "x").string() + " --config " +
+                         (dir_ / "bad2.yaml").string(),
+                     &err),
+              1);
+    EXPECT_NE(err.find("key 'ego_velocity.gate_sigmas': must be > 0"), std::string::npos) << err;
+    EXPECT_EQ(Dorado("calibrate roll " + (dir_ / "missing.bag").string() + " --out x.yaml", &err),
+              1);
+    EXPECT_NE(err.find("dorado: error:"), std::string::npos) << err;
+}
+
+}  // namespace

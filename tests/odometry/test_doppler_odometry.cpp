@@ -1,0 +1,169 @@
+// DopplerOdometry: a simulated vehicle with a known constant twist (on a hill, in a turn) must be
+// integrated to its known pose T(t) = ExpSE3([v; omega] t).
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "dorado/core/lie.hpp"
+#include "dorado/core/time.hpp"
+#include "dorado/odometry/doppler_odometry.hpp"
+#include "synthetic_scan.hpp"
+
+namespace dorado::odometry {
+namespace {
+
+struct Rig {
+    Extrinsics extrinsics;
+    VehicleGeometry geometry{0.256};
+    Vector6d xi;  // true body twist [v_base; omega_base]
+    Rig() {
+        extrinsics.T_base_radar.linear() = (Eigen::AngleAxisd(-0.2, Eigen::Vector3d::UnitZ()) *
+                                            Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitY()))
+                                               .toRotationMatrix();
+        extrinsics.T_base_radar.translation() = Eigen::Vector3d(1.0, 0.1, 0.8);
+        // Climbing while turning left: omega = (0, pitch, yaw); the constraints fix v_y = 0 and
+        // v_z = omega_y m (the Y-ICR point has no vertical velocity).
+        const Eigen::Vector3d omega(0.0, -0.08, 0.35);
+        const Eigen::Vector3d v(4.0, 0.0, omega.y() * geometry.half_wheelbase_m);
+        xi << v, omega;
+    }
+    Eigen::Vector3d VRadar() const {
+        const Eigen::Vector3d v_s =
+            xi.head<3>() + xi.tail<3>().cross(extrinsics.T_base_radar.translation());
+        return extrinsics.T_base_radar.linear().transpose() * v_s;
+    }
+    RadarScan Scan(int64_t stamp_ns, double sigma, uint64_t seed) const {
+        testing::SceneOptions o;
+        o.points = 800;
+        o.v_radar = VRadar();
+        o.doppler_sigma_mps = sigma;
+        // Noise-free scans are fully static (so that the result is exact); noisy ones carry
+        // 20 % moving points.
+        o.dynamic_fraction = sigma > 0.0 ? 0.2 : 0.0;
+        o.seed = seed;
+        RadarScan scan = testing::MakeScan(o).scan;
+        scan.stamp_ns = stamp_ns;
+        return scan;
+    }
+    Eigen::Isometry3d Truth(double t_s) const { return ExpSE3(xi * t_s); }
+};
+
+double PoseError(const Eigen::Isometry3d &a, const Eigen::Isometry3d &b) {
+    return (a.translation() - b.translation()).norm() +
+           RotationAngle(a.linear().transpose() * b.linear());
+}
+
+TEST(DopplerOdometry, ConstantTwistOnAHillInATurnIntegratesToTheTruePose) {
+    const Rig rig;
+    DopplerOdometry odometry({}, rig.extrinsics, rig.geometry);
+    // 10 Hz with jitter, scan 20 dropped: its interval must not be lost.
+    int64_t t = 1'000'000'000;
+    const int64_t t0 = t;
+    for (int k = 0; k < 60; ++k) {
+        t += 100'000'000 + (k % 3) * 7'000'000;
+        if (k == 20) continue;
+        const auto step = odometry.Register(rig.Scan(t, 0.0, k));
+        ASSERT_TRUE(step.integrated);
+        ASSERT_FALSE(step.used_fallback) << step.fallback_reason;
+    }
+    const double T = NanosToSeconds(t - t0);
+    const Eigen::Isometry3d expected = rig.Truth(T - 0.1);  // first scan at t0 + 0.1 s
+    const Eigen::Isometry3d &got = odometry.trajectory().poses().back().T_world_body;
+    EXPECT_LT(PoseError(got, expected), 1e-9);
+    EXPECT_GT(expected.translation().norm(), 15.0);
+    EXPECT_GT(std::abs(expected.translation().z()), 0.2);  // it really climbed
+}
+
+TEST(DopplerOdometry, NoisyDopplerStaysCloseToTheTruePose) {
+    const Rig rig;
+    DopplerOdometry odometry({}, rig.extrinsics, rig.geometry);
+    // Rotation error accumulates as a random walk of the per-scan omega errors:
+    // var = sum dt^2 trace(C_omega) (first order, small angles).
+    double rotation_var = 0.0;
+    for (int k = 0; k <= 50; ++k) {
+        const auto step = odometry.Register(rig.Scan(k * 100'000'000LL, 0.05, 100 + k));
+        ASSERT_TRUE(step.ego.valid) << step.ego.reason;
+        rotation_var += step.dt_s * step.dt_s * step.motion.cov_omega_base.trace();
+    }
+    const Eigen::Isometry3d expected = rig.Truth(5.0);
+    const Eigen::Isometry3d &got = odometry.trajectory().poses().back().T_world_body;
+    const double distance = 5.0 * rig.xi.head<3>().norm();
+    const double error = (got.translation() - expected.translation()).norm();
+    const double rotation_error = RotationAngle(got.linear().transpose() * expected.linear());
+    std::printf(
+        "noisy Doppler: %.3f m position error after %.1f m, %.3f deg rotation error "
+        "(predicted sigma %.3f deg)\n",
+        error, distance, rotation_error * 180 / M_PI, std::sqrt(rotation_var) * 180 / M_PI);
+    EXPECT_LT(rotation_error, 4.0 * std::sqrt(rotation_var));
+    EXPECT_LT(error, 0.03 * distance);
+}
+
+TEST(DopplerOdometry, InvalidScansFallBackToTheLastTwistOverTheRealInterval) {
+    const Rig rig;
+    DopplerOdometry odometry({}, rig.extrinsics, rig.geometry);
+    int64_t t = 0;
+    for (int k = 0; k < 30; ++k, t += 100'000'000) {
+        RadarScan scan = rig.Scan(t, 0.0, k);
+        if (k == 10) scan.doppler_mps.setConstant(NAN);  // unusable scan
+        if (k == 11) scan = RadarScan{}, scan.stamp_ns = t;
+        const auto step = odometry.Register(scan);
+        EXPECT_EQ(step.used_fallback, k == 10 || k == 11) << k;
+        if (k == 10) {
+            EXPECT_NE(step.fallback_reason.find("too few points"), std::string::npos);
+        }
+        EXPECT_TRUE(step.T_world_base.matrix().allFinite());
+    }
+    EXPECT_LT(PoseError(odometry.trajectory().poses().back().T_world_body, rig.Truth(2.9)), 1e-9);
+}
+
+TEST(DopplerOdometry, OutOfOrderStampsAreSkipped) {
+    const Rig rig;
+    DopplerOdometry odometry({}, rig.extrinsics, rig.geometry);
+    odometry.Register(rig.Scan(200, 0.0, 1));
+    const auto step = odometry.Register(rig.Scan(100, 0.0, 2));
+    EXPECT_FALSE(step.integrated);
+    EXPECT_NE(step.skip_reason.find("not after"), std::string::npos);
+    EXPECT_EQ(odometry.trajectory().size(), 1u);
+}
+
+TEST(DopplerOdometry, ImuRotationUsesTheGyroAndImuOnlyHasNoTranslation) {
+    const Rig rig;
+    DopplerOdometryConfig imu_config, imu_only_config;
+    imu_config.rotation = RotationSource::kImu;
+    imu_only_config.rotation = RotationSource::kImuOnly;
+    DopplerOdometry imu(imu_config, rig.extrinsics, rig.geometry);
+    DopplerOdometry imu_only(imu_only_config, rig.extrinsics, rig.geometry);
+    // A slightly wrong s_x in the model does not matter when the rotation comes from the gyro.
+    Extrinsics wrong = rig.extrinsics;
+    wrong.T_base_radar.translation().x() += 0.3;
+    DopplerOdometry imu_wrong_sx(imu_config, wrong, rig.geometry);
+    const Eigen::Vector3d gyro = rig.xi.tail<3>();
+    for (int k = 0; k <= 20; ++k) {
+        const RadarScan scan = rig.Scan(k * 100'000'000LL, 0.0, k);
+        imu.Register(scan, gyro);
+        imu_only.Register(scan, gyro);
+    }
+    EXPECT_LT(PoseError(imu.trajectory().poses().back().T_world_body, rig.Truth(2.0)), 1e-9);
+    const auto &only = imu_only.trajectory().poses().back().T_world_body;
+    EXPECT_LT(only.translation().norm(), 1e-12);
+    EXPECT_LT(RotationAngle(only.linear().transpose() * rig.Truth(2.0).linear()), 1e-9);
+    // Without gyro samples kImu falls back to the Doppler rotation and says so.
+    const auto step = imu.Register(rig.Scan(3'000'000'000LL, 0.0, 99));
+    EXPECT_NE(step.fallback_reason.find("no IMU"), std::string::npos);
+    EXPECT_LT((step.omega_base_used_radps - gyro).norm(), 1e-9);
+}
+
+TEST(DopplerOdometry, StandingStillIntegratesNothing) {
+    Rig rig;
+    rig.xi.setZero();
+    DopplerOdometry odometry({}, rig.extrinsics, rig.geometry);
+    for (int k = 0; k < 20; ++k) {
+        const auto step = odometry.Register(rig.Scan(k * 100'000'000LL, 0.05, k));
+        EXPECT_TRUE(step.ego.stationary);
+    }
+    EXPECT_EQ(odometry.trajectory().poses().back().T_world_body.matrix(),
+              Eigen::Matrix4d::Identity());
+}
+
+}  // namespace
+}  // namespace dorado::odometry

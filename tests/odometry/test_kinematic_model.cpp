@@ -1,0 +1,105 @@
+// KinematicModel (eq. 3-5, 7) against a rigid-body forward model and finite differences.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "dorado/core/lie.hpp"
+#include "dorado/odometry/kinematic_model.hpp"
+
+namespace dorado::odometry {
+namespace {
+
+Extrinsics MakeExtrinsics() {
+    Extrinsics e;
+    e.T_base_radar.linear() = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) *
+                               Eigen::AngleAxisd(-0.1, Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitX()))
+                                  .toRotationMatrix();
+    e.T_base_radar.translation() = Eigen::Vector3d(1.2, 0.15, 0.7);  // ahead, on a lever arm
+    return e;
+}
+
+// Forward model: a twist that obeys the constraints (no roll, Z-ICR on the rear axle, Y-ICR at
+// x = m) gives the radar velocity through v_s = v_base + omega x s (eq. 3), independently of
+// the estimator's closed form.
+Eigen::Vector3d RadarVelocity(const Extrinsics &e, const VehicleGeometry &g, double speed,
+                              double pitch_rate, double yaw_rate, Eigen::Vector3d *v_base,
+                              Eigen::Vector3d *omega) {
+    *omega = Eigen::Vector3d(0.0, pitch_rate, yaw_rate);
+    // Base origin (0,0,0): v_y = 0 (Z-ICR). Y-ICR point (m,0,0): v_z + (omega x (m,0,0))_z = 0.
+    *v_base = Eigen::Vector3d(speed, 0.0, 0.0);
+    v_base->z() = -omega->cross(Eigen::Vector3d(g.half_wheelbase_m, 0, 0)).z();
+    const Eigen::Vector3d s = e.T_base_radar.translation();
+    const Eigen::Vector3d v_s_base = *v_base + omega->cross(s);
+    return e.T_base_radar.linear().transpose() * v_s_base;
+}
+
+TEST(KinematicModel, RecoversTheTwistOfAConstrainedVehicle) {
+    const Extrinsics e = MakeExtrinsics();
+    const VehicleGeometry g{0.256};
+    const KinematicModel model(e, g);
+    for (double yaw : {-0.8, 0.0, 0.5}) {
+        for (double pitch : {-0.2, 0.0, 0.3}) {
+            Eigen::Vector3d v_base, omega;
+            const Eigen::Vector3d v_radar = RadarVelocity(e, g, 2.5, pitch, yaw, &v_base, &omega);
+            const VehicleMotion m = model.Motion(v_radar, Eigen::Matrix3d::Identity());
+            EXPECT_LT((m.omega_base_radps - omega).norm(), 1e-12) << yaw << " " << pitch;
+            EXPECT_LT((m.v_base_mps - v_base).norm(), 1e-12);
+        }
+    }
+}
+
+TEST(KinematicModel, SignsMatchTheDerivation) {
+    Extrinsics e;  // radar aligned with the base, 1 m ahead of the rear axle
+    e.T_base_radar.translation() = Eigen::Vector3d(1.0, 0.0, 0.5);
+    const KinematicModel model(e, VehicleGeometry{0.25});
+    // Moving left at the radar, ahead of the rear axle: a left (counter-clockwise) turn.
+    auto m = model.Motion(Eigen::Vector3d(2.0, 0.5, 0.0), Eigen::Matrix3d::Zero());
+    EXPECT_DOUBLE_EQ(m.omega_base_radps.z(), 0.5);
+    // Moving up at the radar, ahead of the Y-ICR (s_x > m): the nose rises, omega_y < 0.
+    m = model.Motion(Eigen::Vector3d(2.0, 0.0, 0.3), Eigen::Matrix3d::Zero());
+    EXPECT_DOUBLE_EQ(m.omega_base_radps.y(), 0.3 / (0.25 - 1.0));
+    EXPECT_LT(m.omega_base_radps.y(), 0.0);
+}
+
+TEST(KinematicModel, CovarianceMatchesFiniteDifferenceJacobianAndEq7) {
+    const Extrinsics e = MakeExtrinsics();
+    const VehicleGeometry g{0.3};
+    const KinematicModel model(e, g);
+    const Eigen::Vector3d v0(3.0, 0.2, -0.1);
+    Eigen::Matrix3d A = Eigen::Matrix3d::Random();
+    const Eigen::Matrix3d C = A * A.transpose() * 0.01 + Eigen::Matrix3d::Identity() * 1e-4;
+    Eigen::Matrix3d J_omega, J_v;
+    const double h = 1e-6;
+    for (int k = 0; k < 3; ++k) {
+        Eigen::Vector3d dv = Eigen::Vector3d::Zero();
+        dv[k] = h;
+        const auto plus = model.Motion(v0 + dv, C), minus = model.Motion(v0 - dv, C);
+        J_omega.col(k) = (plus.omega_base_radps - minus.omega_base_radps) / (2 * h);
+        J_v.col(k) = (plus.v_base_mps - minus.v_base_mps) / (2 * h);
+    }
+    const auto m = model.Motion(v0, C);
+    EXPECT_LT((m.cov_omega_base - J_omega * C * J_omega.transpose()).norm(), 1e-8);
+    EXPECT_LT((m.cov_v_base - J_v * C * J_v.transpose()).norm(), 1e-8);
+
+    // eq. (7) in closed form, with C_v the covariance of v_s in the base frame.
+    const Eigen::Matrix3d R = e.T_base_radar.linear();
+    const Eigen::Matrix3d Cs = R * C * R.transpose();
+    const double s_x = e.T_base_radar.translation().x(), mm = g.half_wheelbase_m;
+    Eigen::Matrix3d eq7 = Eigen::Matrix3d::Zero();
+    eq7(1, 1) = Cs(2, 2) / ((mm - s_x) * (mm - s_x));
+    eq7(1, 2) = eq7(2, 1) = Cs(1, 2) / (s_x * mm - s_x * s_x);
+    eq7(2, 2) = Cs(1, 1) / (s_x * s_x);
+    EXPECT_LT((m.cov_omega_base - eq7).norm(), 1e-12);
+}
+
+TEST(KinematicModel, RejectsUnobservableMountings) {
+    Extrinsics e;
+    e.T_base_radar.translation() = Eigen::Vector3d(0.0, 0.0, 0.5);
+    EXPECT_THROW(KinematicModel(e, VehicleGeometry{0.25}), std::invalid_argument);
+    e.T_base_radar.translation().x() = 0.25;
+    EXPECT_THROW(KinematicModel(e, VehicleGeometry{0.25}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace dorado::odometry
