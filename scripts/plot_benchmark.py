@@ -139,8 +139,10 @@ def boxplot_grid(out_dir, pairs, methods, delta_unit, name, title, label_outlier
         ax.set_ylabel(ylabel)
         ax.grid(axis="y", alpha=0.3)
         if row == 0:
-            ax.legend(ncol=len(methods), fontsize=8, loc="upper left")
-            ax.set_title(title)
+            # Above the axes, so that it hides no box or label.
+            ax.legend(ncol=len(methods), fontsize=8, loc="lower left", bbox_to_anchor=(0, 1.0),
+                      frameon=False)
+            ax.set_title(title, pad=22)
     save(fig, out_dir, name)
 
 
