@@ -43,8 +43,16 @@ std::string Quoted(const std::string &text) {
     return out + "\"";
 }
 
-mapping::BaseTwist TwistOf(const odometry::VehicleMotion &m) {
-    return {m.v_base_mps, m.omega_base_radps, m.cov_v_base, m.cov_omega_base};
+// The Doppler twist with its covariance: the estimator's (eq. 7) plus, when the kinematic model
+// gives the rotation, the model's own error (a vehicle that slips, bounces and rolls). The
+// cross-covariance between v and omega is dropped (the prior is block-diagonal).
+mapping::BaseTwist TwistOf(const odometry::VehicleMotion &m, bool with_model_error) {
+    mapping::BaseTwist twist{m.v_base_mps, m.omega_base_radps, m.cov_v_base, m.cov_omega_base};
+    if (with_model_error) {
+        twist.cov_v_base += m.cov_model.topLeftCorner<3, 3>();
+        twist.cov_omega_base += m.cov_model.bottomRightCorner<3, 3>();
+    }
+    return twist;
 }
 
 void WritePcd(const std::string &path, const Eigen::Matrix3Xd &points) {
@@ -171,9 +179,10 @@ void RunMap(const MapOptions &opt) {
                 const odometry::VehicleMotion motion =
                     kinematics->Motion(ego.v_radar_mps, ego.cov_v_radar);
                 if (opt.prior == "doppler")
-                    built = mapping::PriorFromDoppler(T_last, TwistOf(motion), dt, config.prior);
+                    built = mapping::PriorFromDoppler(T_last, TwistOf(motion, true), dt, config.prior);
                 if (opt.prior == "imu+doppler") {
-                    mapping::BaseTwist twist = TwistOf(motion);
+                    // The gyro gives omega and v_base = v_s - omega x s: no model error.
+                    mapping::BaseTwist twist = TwistOf(motion, false);
                     const Eigen::Vector3d gyro_base =
                         dataset.extrinsics.T_base_imu.linear() *
                         MeanAngularVelocity(imu, last_stamp + 1, scan.stamp_ns);

@@ -11,7 +11,8 @@ namespace dorado::odometry {
 KinematicModel::KinematicModel(const Extrinsics &extrinsics, const VehicleGeometry &geometry)
     : R_base_radar_(extrinsics.T_base_radar.linear()),
       p_base_radar_(extrinsics.T_base_radar.translation()),
-      half_wheelbase_m_(geometry.half_wheelbase_m) {
+      half_wheelbase_m_(geometry.half_wheelbase_m),
+      model_noise_(geometry.model_noise) {
     const double s_x = p_base_radar_.x(), m = half_wheelbase_m_;
     if (!std::isfinite(s_x) || std::abs(s_x) < 1e-3)
         throw std::invalid_argument(
@@ -38,7 +39,40 @@ VehicleMotion KinematicModel::Motion(const Eigen::Vector3d &v_radar,
     // eq. (7): C_omega = J C_v J^T (exact: the model is linear in v).
     motion.cov_omega_base = J_omega_ * cov_v_radar * J_omega_.transpose();
     motion.cov_v_base = J_v_base_ * cov_v_radar * J_v_base_.transpose();
+    motion.cov_model = ModelCovariance(motion.v_base_mps, motion.omega_base_radps);
     return motion;
+}
+
+// With the violations kept, eq. (3) reads v_sy - omega_z s_x + omega_x s_z = dy (the rear axle's
+// lateral velocity) and eq. (4) reads v_sz - omega_x s_y - omega_y (m - s_x) = dz (the Y-ICR
+// point's vertical velocity). The model solves them with dy = dz = omega_x = 0, so its estimate
+// minus the truth is
+//   omega_x: -omega_x,   omega_y: (dz + omega_x s_y) / (m - s_x),   omega_z: (dy - omega_x s_z) / s_x
+// and, through v_base = v_s + s x omega (v_s is measured, not modelled), v_base: Hat(s) d_omega.
+Eigen::Matrix<double, 6, 3> KinematicModel::ViolationJacobian() const {
+    const Eigen::Vector3d &s = p_base_radar_;
+    const double m = half_wheelbase_m_;
+    Eigen::Matrix3d G_omega;
+    G_omega << 0.0, 0.0, -1.0,                        //
+        0.0, 1.0 / (m - s.x()), s.y() / (m - s.x()),  //
+        1.0 / s.x(), 0.0, -s.z() / s.x();
+    Eigen::Matrix<double, 6, 3> G;
+    G << Hat(s) * G_omega, G_omega;
+    return G;
+}
+
+Eigen::Matrix<double, 6, 6> KinematicModel::ModelCovariance(
+    const Eigen::Vector3d &v_base, const Eigen::Vector3d &omega_base) const {
+    const KinematicModelNoise &n = model_noise_;
+    const double yaw_rate = std::abs(omega_base.z()), speed = std::abs(v_base.x());
+    const double icr = n.sigma_icr_x_m * yaw_rate;
+    const double slip = n.rear_slip_rad_per_mps2 * speed * speed * yaw_rate;
+    const Eigen::Vector3d variance(
+        icr * icr + slip * slip + n.sigma_lateral_mps * n.sigma_lateral_mps,
+        n.sigma_vertical_mps * n.sigma_vertical_mps,
+        n.sigma_roll_rate_radps * n.sigma_roll_rate_radps);
+    const Eigen::Matrix<double, 6, 3> G = ViolationJacobian();
+    return G * variance.asDiagonal() * G.transpose();
 }
 
 Eigen::Vector3d KinematicModel::SensorVelocityInBase(const Eigen::Vector3d &v_radar) const {

@@ -78,6 +78,10 @@ TEST_F(DatasetConfigTest, OutOfRangeAndWrongTypesNameTheKey) {
                 "vehicle.half_wheelbase_m': must be a positive number");
     ExpectError("rosbag: {path: x.bag}\nvehicle: {half_wheelbase_m: wide}\n",
                 "vehicle.half_wheelbase_m': has the wrong type (line 2)");
+    ExpectError("rosbag: {path: x.bag}\nvehicle: {model_noise: {sigma_vertical_mps: -0.1}}\n",
+                "vehicle.model_noise.sigma_vertical_mps': must be a number >= 0");
+    ExpectError("rosbag: {path: x.bag}\nvehicle: {model_noise: {sigma_roll_rate: 0.1}}\n",
+                "vehicle.model_noise.sigma_roll_rate': unknown key");
     ExpectError("rosbag: {path: x.bag}\nfields: {doppler_sign: 2}\n",
                 "fields.doppler_sign': must be 1 or -1");
     ExpectError("reader: lidar\n", "'reader': must be rosbag or folder");
@@ -99,6 +103,7 @@ TEST_F(DatasetConfigTest, YamlRoundTrip) {
         Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
     config.extrinsics.T_base_radar.translation() << 0.7, 0.01, 0.45;
     config.vehicle.half_wheelbase_m = 0.3;
+    config.vehicle.model_noise = {0.25, 0.001, 0.03, 0.07, 0.11};
     config.ground_truth.path = (dir_ / "gt.tum").string();
     const DatasetConfig back = LoadDatasetConfig(WriteYaml(DatasetConfigToYaml(config)));
     EXPECT_EQ(back.name, "sim");
@@ -109,6 +114,11 @@ TEST_F(DatasetConfigTest, YamlRoundTrip) {
         (back.extrinsics.T_base_radar.matrix() - config.extrinsics.T_base_radar.matrix()).norm(),
         1e-14);
     EXPECT_EQ(back.vehicle.half_wheelbase_m, 0.3);
+    EXPECT_EQ(back.vehicle.model_noise.sigma_icr_x_m, 0.25);
+    EXPECT_EQ(back.vehicle.model_noise.rear_slip_rad_per_mps2, 0.001);
+    EXPECT_EQ(back.vehicle.model_noise.sigma_lateral_mps, 0.03);
+    EXPECT_EQ(back.vehicle.model_noise.sigma_vertical_mps, 0.07);
+    EXPECT_EQ(back.vehicle.model_noise.sigma_roll_rate_radps, 0.11);
     EXPECT_EQ(back.ground_truth.path, config.ground_truth.path);
 }
 

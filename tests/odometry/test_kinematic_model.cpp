@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <random>
 
 #include "dorado/core/lie.hpp"
 #include "dorado/odometry/kinematic_model.hpp"
@@ -99,6 +100,80 @@ TEST(KinematicModel, RejectsUnobservableMountings) {
     EXPECT_THROW(KinematicModel(e, VehicleGeometry{0.25}), std::invalid_argument);
     e.T_base_radar.translation().x() = 0.25;
     EXPECT_THROW(KinematicModel(e, VehicleGeometry{0.25}), std::invalid_argument);
+}
+
+// A vehicle that breaks all three constraints, simulated as a rigid body independently of the
+// model's algebra: the rear-axle centre slides sideways (dy), the Y-ICR point moves vertically (dz)
+// and the body rolls (omega_x). The model's estimate minus the truth, over many draws, must have
+// the covariance the model reports (the violations enter linearly, so the match is exact up to
+// sampling error).
+TEST(KinematicModel, ModelCovarianceMatchesMonteCarloOfAVehicleBreakingTheConstraints) {
+    const Extrinsics e = MakeExtrinsics();
+    VehicleGeometry g{0.3};
+    g.model_noise = {0.1, 0.005, 0.02, 0.05, 0.05};
+    const KinematicModel model(e, g);
+    const double speed = 6.0, pitch_rate = 0.05, yaw_rate = 0.4, m = g.half_wheelbase_m;
+    const Eigen::Vector3d s = e.T_base_radar.translation();
+    const Eigen::Matrix3d R = e.T_base_radar.linear();
+    // The nominal (constraint-obeying) motion gives the reported model covariance.
+    Eigen::Vector3d v_nominal, omega_nominal;
+    const Eigen::Matrix<double, 6, 6> reported =
+        model.Motion(RadarVelocity(e, g, speed, pitch_rate, yaw_rate, &v_nominal, &omega_nominal),
+                     Eigen::Matrix3d::Zero())
+            .cov_model;
+    const auto &n = g.model_noise;
+    const double sigma_y = std::hypot(n.sigma_icr_x_m * yaw_rate,
+                                      n.rear_slip_rad_per_mps2 * speed * speed * yaw_rate,
+                                      n.sigma_lateral_mps);
+    std::mt19937 rng(42);
+    std::normal_distribution<double> gauss;
+    const int trials = 200000;
+    Eigen::Matrix<double, 6, 6> scatter = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> mean = Eigen::Matrix<double, 6, 1>::Zero();
+    for (int k = 0; k < trials; ++k) {
+        const double dy = sigma_y * gauss(rng), dz = n.sigma_vertical_mps * gauss(rng);
+        const Eigen::Vector3d omega(n.sigma_roll_rate_radps * gauss(rng), pitch_rate, yaw_rate);
+        // Base origin on the rear axle: lateral velocity dy. Y-ICR point (m, 0, .): vertical
+        // velocity dz, i.e. v_z + (omega x (m, 0, 0))_z = dz.
+        const Eigen::Vector3d v_base(speed, dy, dz - omega.cross(Eigen::Vector3d(m, 0, 0)).z());
+        const Eigen::Vector3d v_radar = R.transpose() * (v_base + omega.cross(s));
+        const VehicleMotion est = model.Motion(v_radar, Eigen::Matrix3d::Zero());
+        Eigen::Matrix<double, 6, 1> err;
+        err << est.v_base_mps - v_base, est.omega_base_radps - omega;
+        mean += err;
+        scatter += err * err.transpose();
+    }
+    mean /= trials;
+    const Eigen::Matrix<double, 6, 6> sample = scatter / trials - mean * mean.transpose();
+    for (int i = 0; i < 6; ++i) {
+        EXPECT_LT(std::abs(mean[i]), 0.01 * std::sqrt(reported(i, i))) << i;
+        for (int j = 0; j < 6; ++j) {
+            const double scale = std::sqrt(reported(i, i) * reported(j, j));
+            EXPECT_LT(std::abs(sample(i, j) - reported(i, j)), 0.02 * scale)
+                << "(" << i << "," << j << ") sample " << sample(i, j) << " reported "
+                << reported(i, j);
+        }
+    }
+    // Roll is the model's blind spot: its reported variance is the roll rate's.
+    EXPECT_NEAR(reported(3, 3), n.sigma_roll_rate_radps * n.sigma_roll_rate_radps, 1e-15);
+}
+
+TEST(KinematicModel, ModelErrorGrowsWithYawRateAndSpeedAndVanishesWithoutNoise) {
+    const Extrinsics e = MakeExtrinsics();
+    VehicleGeometry g{0.3};
+    const auto yaw_variance = [&](double speed, double yaw_rate) {
+        Eigen::Vector3d v, w;
+        return KinematicModel(e, g)
+            .Motion(RadarVelocity(e, g, speed, 0.0, yaw_rate, &v, &w), Eigen::Matrix3d::Zero())
+            .cov_model(5, 5);
+    };
+    const double straight = yaw_variance(5.0, 0.0), slow_turn = yaw_variance(2.0, 0.5),
+                 fast_turn = yaw_variance(10.0, 0.5);
+    EXPECT_GT(straight, 0.0);
+    EXPECT_GT(slow_turn, straight);
+    EXPECT_GT(fast_turn, 4.0 * slow_turn);
+    g.model_noise = {0.0, 0.0, 0.0, 0.0, 0.0};
+    EXPECT_EQ(yaw_variance(10.0, 0.5), 0.0);
 }
 
 }  // namespace

@@ -83,6 +83,23 @@ const char *FormatName(TrajectoryFormat format) {
     return "tum";
 }
 
+// vehicle.model_noise: each a 1-sigma size, finite and >= 0 (0 = that constraint holds exactly).
+KinematicModelNoise ReadModelNoise(YamlSection section) {
+    KinematicModelNoise noise;
+    const auto read = [&section](const char *key, double &value) {
+        value = section.Get<double>(key, value);
+        if (!(std::isfinite(value) && value >= 0.0))
+            section.Fail(key, "must be a number >= 0, got " + std::to_string(value));
+    };
+    read("sigma_icr_x_m", noise.sigma_icr_x_m);
+    read("rear_slip_rad_per_mps2", noise.rear_slip_rad_per_mps2);
+    read("sigma_lateral_mps", noise.sigma_lateral_mps);
+    read("sigma_vertical_mps", noise.sigma_vertical_mps);
+    read("sigma_roll_rate_radps", noise.sigma_roll_rate_radps);
+    section.RejectUnknownKeys();
+    return noise;
+}
+
 }  // namespace
 
 DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
@@ -150,6 +167,7 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
     YamlSection vehicle = top.Child("vehicle");
     config.vehicle.half_wheelbase_m =
         vehicle.GetPositive("half_wheelbase_m", config.vehicle.half_wheelbase_m);
+    config.vehicle.model_noise = ReadModelNoise(vehicle.Child("model_noise"));
     vehicle.RejectUnknownKeys();
 
     top.RejectUnknownKeys();
@@ -250,6 +268,14 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
     out << YAML::EndMap;
     out << YAML::Key << "vehicle" << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "half_wheelbase_m" << YAML::Value << config.vehicle.half_wheelbase_m;
+    const KinematicModelNoise &noise = config.vehicle.model_noise;
+    out << YAML::Key << "model_noise" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "sigma_icr_x_m" << YAML::Value << noise.sigma_icr_x_m;
+    out << YAML::Key << "rear_slip_rad_per_mps2" << YAML::Value << noise.rear_slip_rad_per_mps2;
+    out << YAML::Key << "sigma_lateral_mps" << YAML::Value << noise.sigma_lateral_mps;
+    out << YAML::Key << "sigma_vertical_mps" << YAML::Value << noise.sigma_vertical_mps;
+    out << YAML::Key << "sigma_roll_rate_radps" << YAML::Value << noise.sigma_roll_rate_radps;
+    out << YAML::EndMap;
     out << YAML::EndMap;
     out << YAML::EndMap;
     return std::string(out.c_str()) + "\n";

@@ -15,9 +15,30 @@ struct Extrinsics {
     Eigen::Isometry3d T_base_imu = Eigen::Isometry3d::Identity();  ///< x_base = T_base_imu x_imu
 };
 
+/// How far a real vehicle breaks the kinematic model's three constraints (paper section III-B):
+/// the rear axle slips sideways, the Y-ICR point moves vertically (suspension, bumps) and the body
+/// rolls. Each violation is a 1-sigma size; together they give the model's own error covariance,
+/// which the paper's eq. (7) (estimator noise only) leaves out.
+struct KinematicModelNoise {
+    /// Uncertainty of where the Z-ICR really is along X [m]: a lateral velocity
+    /// sigma_icr_x_m * |omega_z| at the rear axle (skid-steer vehicles turn about a point that
+    /// wanders with load and ground; for a car with a rigid rear axle it is small).
+    double sigma_icr_x_m = 0.1;
+    /// Sideslip angle of the rear axle per lateral acceleration [rad per m/s^2]: a lateral
+    /// velocity rear_slip_rad_per_mps2 * v^2 * |omega_z| (tyres slip in fast turns).
+    double rear_slip_rad_per_mps2 = 0.005;
+    /// Lateral velocity of the rear axle from vibration and rough ground, always present [m/s].
+    double sigma_lateral_mps = 0.02;
+    /// Vertical velocity of the Y-ICR point (suspension, bumps) [m/s].
+    double sigma_vertical_mps = 0.05;
+    /// The roll rate the model sets to zero [rad/s].
+    double sigma_roll_rate_radps = 0.05;
+};
+
 struct VehicleGeometry {
     /// Half the distance between the two axles [m] (the paper's m): the Y-ICR axis is at x = m.
     double half_wheelbase_m = 0.256;
+    KinematicModelNoise model_noise;
 };
 
 }  // namespace dorado

@@ -48,11 +48,11 @@ struct PriorNoiseConfig {
     double imu_accel_sigma_mps2 = 0.2;
     double imu_velocity_sigma_mps = 0.3;
     Eigen::Vector3d gravity_world_mps2 = Eigen::Vector3d(0.0, 0.0, -9.81);
-    /// `doppler`: floors added to the estimator's covariances. The kinematic model sets the roll
-    /// rate to zero with zero variance (paper eq. 7): it is not observed, so it gets a real
-    /// uncertainty.
+    /// `doppler`: floors added to the twist's covariances (unmodelled biases, and a positive
+    /// definite prior even from a perfect scan). The kinematic model's own error (roll rate,
+    /// slip, bounce) comes with the twist (odometry::VehicleMotion::cov_model), not from here.
     double doppler_min_sigma_v_mps = 0.02;
-    Eigen::Vector3d doppler_min_sigma_omega_radps = Eigen::Vector3d(0.05, 0.02, 0.01);
+    Eigen::Vector3d doppler_min_sigma_omega_radps = Eigen::Vector3d(0.005, 0.005, 0.005);
 
     /// Throws std::invalid_argument naming the first bad key.
     void Validate() const;

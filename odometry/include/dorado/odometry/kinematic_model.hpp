@@ -15,6 +15,10 @@ struct VehicleMotion {
     Eigen::Vector3d omega_base_radps = Eigen::Vector3d::Zero();
     Eigen::Matrix3d cov_v_base = Eigen::Matrix3d::Zero();
     Eigen::Matrix3d cov_omega_base = Eigen::Matrix3d::Zero();
+    /// Covariance of the model's own error (the vehicle breaking the constraints, see
+    /// KinematicModelNoise), of [v_base; omega_base]: add it to the blocks above for an honest
+    /// total. Zero when the geometry's model_noise is zero.
+    Eigen::Matrix<double, 6, 6> cov_model = Eigen::Matrix<double, 6, 6>::Zero();
 };
 
 /// The paper's kinematic constraints, in the base frame (X forward, Y left, Z up, origin at the
@@ -42,7 +46,8 @@ class KinematicModel {
     KinematicModel(const Extrinsics &extrinsics, const VehicleGeometry &geometry);
 
     /// Vehicle motion from the radar velocity in the radar frame and its covariance. Covariances
-    /// by first-order propagation (eq. 7): J C_v J^T with J the exact (linear) Jacobian.
+    /// by first-order propagation (eq. 7): J C_v J^T with J the exact (linear) Jacobian; the
+    /// model's own error goes to VehicleMotion::cov_model.
     [[nodiscard]] VehicleMotion Motion(const Eigen::Vector3d &v_radar,
                                        const Eigen::Matrix3d &cov_v_radar) const;
 
@@ -60,10 +65,20 @@ class KinematicModel {
 
     [[nodiscard]] const Eigen::Vector3d &p_base_radar() const { return p_base_radar_; }
 
+    /// How the estimate errs when the constraints are broken: d [v_base; omega_base] (estimate
+    /// minus truth) / d [lateral velocity at the rear axle; vertical velocity at the Y-ICR point;
+    /// roll rate]. From eq. (3) and (4) with the violations kept (derivation in the .cpp).
+    [[nodiscard]] Eigen::Matrix<double, 6, 3> ViolationJacobian() const;
+
   private:
+    [[nodiscard]] Eigen::Matrix<double, 6, 6> ModelCovariance(
+        const Eigen::Vector3d &v_base, const Eigen::Vector3d &omega_base) const;
+
+
     Eigen::Matrix3d R_base_radar_;
     Eigen::Vector3d p_base_radar_;  ///< s, the radar position in the base frame
     double half_wheelbase_m_;
+    KinematicModelNoise model_noise_;
     Eigen::Matrix3d J_omega_;   ///< omega_base = J_omega_ v_radar
     Eigen::Matrix3d J_v_base_;  ///< v_base = J_v_base_ v_radar
 };
