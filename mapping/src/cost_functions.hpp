@@ -4,10 +4,13 @@
 // ceres::EigenQuaternionManifold). Residuals are whitened: r^T r is the squared Mahalanobis norm.
 
 #include <ceres/autodiff_cost_function.h>
+#include <ceres/sized_cost_function.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "whitening.hpp"
 
@@ -50,53 +53,38 @@ class RegistrationError {
     Eigen::Matrix3d sqrt_information_;
 };
 
-// Doppler residual of one static point (Doppler-ICP made kinematic). The pose's motion since the
-// previous (fixed) pose, T_rel = T_prev^-1 T, is read as a constant body twist over dt:
+// The radar velocity a candidate pose implies (Doppler-ICP made kinematic). The pose's motion
+// since the previous (fixed) pose, T_rel = T_prev^-1 T, is read as a constant body twist over dt:
 //
 //   [rho; phi] = LogSE3(T_rel),   v_base = rho / dt,   omega_base = phi / dt   (base frame),
-//   v_radar = R_base_radar^T (v_base + omega_base x t_base_radar)    (rigid body, paper eq. 5),
-//   predicted Doppler = -d_radar . v_radar                            (paper eq. 1),
-//   r = (measured - predicted) / sigma.
-class DopplerError {
+//   v_radar = R_base_radar^T (v_base + omega_base x t_base_radar)    (rigid body, paper eq. 5).
+class RadarVelocityOfPose {
   public:
-    DopplerError(const Eigen::Vector3d &d_radar, double doppler_mps,
-                 const Eigen::Isometry3d &T_base_radar, const Eigen::Isometry3d &T_world_base_prev,
-                 double dt_s, double sigma_mps)
-        : d_radar_(d_radar),
-          doppler_mps_(doppler_mps),
-          R_base_radar_(T_base_radar.linear()),
+    RadarVelocityOfPose(const Eigen::Isometry3d &T_base_radar,
+                        const Eigen::Isometry3d &T_world_base_prev, double dt_s)
+        : R_base_radar_(T_base_radar.linear()),
           t_base_radar_(T_base_radar.translation()),
           q_world_prev_(T_world_base_prev.linear()),
           t_world_prev_(T_world_base_prev.translation()),
-          dt_s_(dt_s),
-          sigma_mps_(sigma_mps) {}
+          dt_s_(dt_s) {}
 
     template <typename T>
-    bool operator()(const T *const p_ptr, const T *const q_ptr, T *residual) const {
+    bool operator()(const T *const p_ptr, const T *const q_ptr, T *v_radar_ptr) const {
         using Vec3 = Eigen::Matrix<T, 3, 1>;
         Eigen::Map<const Vec3> t_world_base(p_ptr);
         Eigen::Map<const Eigen::Quaternion<T>> q_world_base(q_ptr);
         const Eigen::Quaternion<T> q_prev_inv = q_world_prev_.conjugate().cast<T>();
-        Eigen::Quaternion<T> q_rel = q_prev_inv * q_world_base;
+        const Eigen::Quaternion<T> q_rel = q_prev_inv * q_world_base;
         const Vec3 t_rel = q_prev_inv * (t_world_base - t_world_prev_.cast<T>());
         const Vec3 phi = LogQuaternion(q_rel);
         const Vec3 rho = LeftJacobianInverseTimes(phi, t_rel);
         const T inv_dt = T(1.0 / dt_s_);
         const Vec3 v_base = rho * inv_dt;
         const Vec3 omega_base = phi * inv_dt;
-        const Vec3 v_radar = R_base_radar_.transpose().cast<T>() *
-                             (v_base + omega_base.cross(t_base_radar_.cast<T>()));
-        const T predicted = -d_radar_.cast<T>().dot(v_radar);
-        residual[0] = (T(doppler_mps_) - predicted) / T(sigma_mps_);
+        Eigen::Map<Vec3> v_radar(v_radar_ptr);
+        v_radar = R_base_radar_.transpose().cast<T>() *
+                  (v_base + omega_base.cross(t_base_radar_.cast<T>()));
         return true;
-    }
-
-    static ceres::CostFunction *Create(const Eigen::Vector3d &d_radar, double doppler_mps,
-                                       const Eigen::Isometry3d &T_base_radar,
-                                       const Eigen::Isometry3d &T_world_base_prev, double dt_s,
-                                       double sigma_mps) {
-        return new ceres::AutoDiffCostFunction<DopplerError, 1, 3, 4>(new DopplerError(
-            d_radar, doppler_mps, T_base_radar, T_world_base_prev, dt_s, sigma_mps));
     }
 
     // Rotation vector of a unit quaternion (the shorter way round).
@@ -124,13 +112,101 @@ class DopplerError {
     }
 
   private:
-    Eigen::Vector3d d_radar_;
-    double doppler_mps_;
     Eigen::Matrix3d R_base_radar_;
     Eigen::Vector3d t_base_radar_;
     Eigen::Quaterniond q_world_prev_;
     Eigen::Vector3d t_world_prev_;
     double dt_s_;
+};
+
+// RadarVelocityOfPose and its Jacobian, evaluated once per candidate pose: all the Doppler
+// residuals of one refinement share it (they differ only in the ray and the measurement), so a
+// Ceres iteration pays for one automatic differentiation of the pose's velocity, not one per
+// point. Not thread-safe: the refinement runs Ceres with one thread.
+class SharedRadarVelocity {
+  public:
+    using JacobianP = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+    using JacobianQ = Eigen::Matrix<double, 3, 4, Eigen::RowMajor>;
+
+    SharedRadarVelocity(const Eigen::Isometry3d &T_base_radar,
+                        const Eigen::Isometry3d &T_world_base_prev, double dt_s)
+        : velocity_(new RadarVelocityOfPose(T_base_radar, T_world_base_prev, dt_s)) {}
+
+    // The radar velocity at the pose (p, q); its Jacobians too when asked. False if Ceres' automatic
+    // differentiation failed.
+    bool Evaluate(const double *p, const double *q, bool with_jacobians) {
+        const bool same_pose = valid_ && std::equal(p, p + 3, p_) && std::equal(q, q + 4, q_);
+        if (same_pose && (has_jacobians_ || !with_jacobians)) return true;
+        const double *parameters[] = {p, q};
+        double *jacobians[] = {J_p_.data(), J_q_.data()};
+        valid_ = velocity_.Evaluate(parameters, v_radar_.data(),
+                                    with_jacobians ? jacobians : nullptr);
+        has_jacobians_ = valid_ && with_jacobians;
+        std::copy(p, p + 3, p_);
+        std::copy(q, q + 4, q_);
+        return valid_;
+    }
+    const Eigen::Vector3d &v_radar() const { return v_radar_; }
+    const JacobianP &J_p() const { return J_p_; }
+    const JacobianQ &J_q() const { return J_q_; }
+
+  private:
+    ceres::AutoDiffCostFunction<RadarVelocityOfPose, 3, 3, 4> velocity_;
+    bool valid_ = false, has_jacobians_ = false;
+    double p_[3] = {0, 0, 0}, q_[4] = {0, 0, 0, 0};
+    Eigen::Vector3d v_radar_ = Eigen::Vector3d::Zero();
+    JacobianP J_p_ = JacobianP::Zero();
+    JacobianQ J_q_ = JacobianQ::Zero();
+};
+
+// Doppler residual of one static point:
+//
+//   predicted Doppler = -d_radar . v_radar(T)      (paper eq. 1, v_radar from the pose above),
+//   r = (measured - predicted) / sigma = (measured + d_radar . v_radar) / sigma.
+//
+// Linear in v_radar, so its Jacobian is d^T dv_radar/d(p, q) / sigma from the shared velocity.
+class DopplerError : public ceres::SizedCostFunction<1, 3, 4> {
+  public:
+    DopplerError(const Eigen::Vector3d &d_radar, double doppler_mps,
+                 std::shared_ptr<SharedRadarVelocity> velocity, double sigma_mps)
+        : d_radar_(d_radar),
+          doppler_mps_(doppler_mps),
+          velocity_(std::move(velocity)),
+          sigma_mps_(sigma_mps) {}
+
+    bool Evaluate(double const *const *parameters, double *residuals,
+                  double **jacobians) const override {
+        if (!velocity_->Evaluate(parameters[0], parameters[1], jacobians != nullptr)) return false;
+        const double inv_sigma = 1.0 / sigma_mps_;
+        residuals[0] = (doppler_mps_ + d_radar_.dot(velocity_->v_radar())) * inv_sigma;
+        if (jacobians != nullptr) {
+            if (jacobians[0] != nullptr) {
+                Eigen::Map<Eigen::RowVector3d> J_p(jacobians[0]);
+                J_p = inv_sigma * d_radar_.transpose() * velocity_->J_p();
+            }
+            if (jacobians[1] != nullptr) {
+                Eigen::Map<Eigen::RowVector4d> J_q(jacobians[1]);
+                J_q = inv_sigma * d_radar_.transpose() * velocity_->J_q();
+            }
+        }
+        return true;
+    }
+
+    // One residual with its own velocity (tests); the refinement shares one velocity among all.
+    static ceres::CostFunction *Create(const Eigen::Vector3d &d_radar, double doppler_mps,
+                                       const Eigen::Isometry3d &T_base_radar,
+                                       const Eigen::Isometry3d &T_world_base_prev, double dt_s,
+                                       double sigma_mps) {
+        return new DopplerError(
+            d_radar, doppler_mps,
+            std::make_shared<SharedRadarVelocity>(T_base_radar, T_world_base_prev, dt_s),
+            sigma_mps);
+    }
+
+  private:
+    Eigen::Vector3d d_radar_;
+    double doppler_mps_;
+    std::shared_ptr<SharedRadarVelocity> velocity_;
     double sigma_mps_;
 };
 

@@ -43,11 +43,12 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
                                  registration_loss.get(), t_world_base.data(),
                                  q_world_base.coeffs().data());
     }
-    if (input.doppler != nullptr) {
+    if (input.doppler != nullptr && !input.doppler->empty()) {
+        const auto velocity = std::make_shared<SharedRadarVelocity>(
+            input.T_base_radar, input.T_world_base_prev, input.dt_s);
         for (const auto &d : *input.doppler) {
             problem.AddResidualBlock(
-                DopplerError::Create(d.d_radar, d.doppler_mps, input.T_base_radar,
-                                     input.T_world_base_prev, input.dt_s, config.doppler_sigma_mps),
+                new DopplerError(d.d_radar, d.doppler_mps, velocity, config.doppler_sigma_mps),
                 doppler_loss.get(), t_world_base.data(), q_world_base.coeffs().data());
         }
     }

@@ -94,12 +94,49 @@ TEST(CostFunctions, DopplerErrorIsZeroForTheTrueTwistAndHasCorrectGradients) {
     ExpectGradientsMatch(*exact, T_straight);
 }
 
+// The refinement shares one pose velocity among all Doppler residuals: interleaved evaluations at
+// different poses, with and without Jacobians, must give what independent residuals give.
+TEST(CostFunctions, SharedVelocityGivesWhatIndependentResidualsGive) {
+    const Eigen::Isometry3d T_prev = Pose(Xi(1.0, 2.0, 0.1, 0.01, 0.02, 0.3));
+    const Eigen::Isometry3d T_base_radar = Pose(Xi(1.5, -0.1, 0.9, 0.0, 0.1, 0.2));
+    const double dt = 0.08, sigma = 0.1;
+    const auto shared = std::make_shared<SharedRadarVelocity>(T_base_radar, T_prev, dt);
+    const Eigen::Vector3d d1 = Eigen::Vector3d(0.9, 0.3, 0.1).normalized();
+    const Eigen::Vector3d d2 = Eigen::Vector3d(0.2, -0.9, 0.3).normalized();
+    const DopplerError a(d1, 1.5, shared, sigma), b(d2, -0.7, shared, sigma);
+    std::unique_ptr<ceres::CostFunction> a_alone(
+        DopplerError::Create(d1, 1.5, T_base_radar, T_prev, dt, sigma));
+    std::unique_ptr<ceres::CostFunction> b_alone(
+        DopplerError::Create(d2, -0.7, T_base_radar, T_prev, dt, sigma));
+    const Eigen::Isometry3d poses[] = {T_prev * Pose(Xi(0.9, 0.05, 0.0, 0.0, 0.01, 0.05)),
+                                       T_prev * Pose(Xi(0.7, -0.02, 0.01, 0.01, 0.0, -0.1))};
+    int k = 0;
+    for (const auto &T : {poses[0], poses[1], poses[0], poses[1]}) {
+        Eigen::Vector3d p = T.translation();
+        Eigen::Quaterniond q(T.linear());
+        const double *params[] = {p.data(), q.coeffs().data()};
+        for (const auto &[shared_cost, alone] :
+             {std::pair<const ceres::CostFunction *, const ceres::CostFunction *>{&a, a_alone.get()},
+              {&b, b_alone.get()}}) {
+            double r_shared, r_alone, jp_s[3], jq_s[4], jp_a[3], jq_a[4];
+            double *jac_s[] = {jp_s, jq_s}, *jac_a[] = {jp_a, jq_a};
+            const bool with_jacobians = (k++ % 3) != 0;
+            ASSERT_TRUE(shared_cost->Evaluate(params, &r_shared, with_jacobians ? jac_s : nullptr));
+            ASSERT_TRUE(alone->Evaluate(params, &r_alone, jac_a));
+            EXPECT_DOUBLE_EQ(r_shared, r_alone);  // the Jet and double paths may differ in the last bit
+            if (!with_jacobians) continue;
+            for (int i = 0; i < 3; ++i) EXPECT_DOUBLE_EQ(jp_s[i], jp_a[i]);
+            for (int i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(jq_s[i], jq_a[i]);
+        }
+    }
+}
+
 TEST(CostFunctions, LogHelpersMatchCoreLie) {
     const Vector6d xi = Xi(0.7, -0.3, 0.2, 0.3, -0.5, 0.9);
     const Eigen::Isometry3d T = ExpSE3(xi);
-    const Eigen::Vector3d phi = DopplerError::LogQuaternion(Eigen::Quaterniond(T.linear()));
+    const Eigen::Vector3d phi = RadarVelocityOfPose::LogQuaternion(Eigen::Quaterniond(T.linear()));
     const Eigen::Vector3d rho =
-        DopplerError::LeftJacobianInverseTimes<double>(phi, T.translation());
+        RadarVelocityOfPose::LeftJacobianInverseTimes<double>(phi, T.translation());
     EXPECT_LT((phi - xi.tail<3>()).norm(), 1e-12);
     EXPECT_LT((rho - xi.head<3>()).norm(), 1e-12);
 }
