@@ -34,36 +34,39 @@ Association Associate(const Eigen::Matrix3Xd &source_base, const Eigen::Isometry
     std::vector<std::pair<Eigen::Index, int>> found;
     found.reserve(static_cast<std::size_t>(source_base.cols()));
     double sum_sq = 0.0;
-    Eigen::Matrix3d H_translation = Eigen::Matrix3d::Zero();
-    Eigen::Matrix3d H_rotation = Eigen::Matrix3d::Zero();
     for (Eigen::Index i = 0; i < source_base.cols(); ++i) {
         const Eigen::Vector3d p_world = T_world_base * source_base.col(i);
         const LocalMap::Neighbour nn = local_map.Nearest(p_world);
         if (nn.index < 0 || nn.distance_squared > threshold_sq) continue;
         found.emplace_back(i, nn.index);
         sum_sq += nn.distance_squared;
-        // Point-to-plane Jacobian w.r.t. a world translation and a rotation about the vehicle:
-        // d r / d t = n, d r / d theta = (R p) x n.
-        const Eigen::Vector3d &n = map.Normal(nn.index);
-        const Eigen::Vector3d lever = (T_world_base.linear() * source_base.col(i)).cross(n);
-        H_translation += n * n.transpose();
-        H_rotation += lever * lever.transpose();
     }
     if (found.empty()) return out;
     out.count = static_cast<int>(found.size());
     out.rms_m = std::sqrt(sum_sq / static_cast<double>(found.size()));
-    out.observability = std::min(EigenvalueRatio(H_translation), EigenvalueRatio(H_rotation));
 
+    // The kept matches: their local shapes (a k-NN fit each, the costly part) whiten the residuals
+    // and measure how well the geometry constrains the pose. An even thinning keeps the scan's
+    // spatial spread, so the eigenvalue ratio is that of all matches up to sampling.
     const std::size_t keep =
         std::min<std::size_t>(found.size(), static_cast<std::size_t>(max_matches));
     out.matches.reserve(keep);
     const double sigma_sq = config.point_sigma_m * config.point_sigma_m;
+    Eigen::Matrix3d H_translation = Eigen::Matrix3d::Zero();
+    Eigen::Matrix3d H_rotation = Eigen::Matrix3d::Zero();
     for (std::size_t k = 0; k < keep; ++k) {
         const auto [i, j] = found[k * found.size() / keep];
         const Eigen::Matrix3d C = sigma_sq * map.Covariance(j);
         out.matches.push_back(
             {source_base.col(i), map.points_world[j], InverseCholeskyFactor<3>(C)});
+        // Point-to-plane Jacobian w.r.t. a world translation and a rotation about the vehicle:
+        // d r / d t = n, d r / d theta = (R p) x n.
+        const Eigen::Vector3d &n = map.Normal(j);
+        const Eigen::Vector3d lever = (T_world_base.linear() * source_base.col(i)).cross(n);
+        H_translation += n * n.transpose();
+        H_rotation += lever * lever.transpose();
     }
+    out.observability = std::min(EigenvalueRatio(H_translation), EigenvalueRatio(H_rotation));
     return out;
 }
 

@@ -38,7 +38,8 @@ struct Association {
     int count = 0;                        ///< all matches within the threshold
     double rms_m = 0.0;
     /// min over translation and rotation of lambda_min / lambda_max of the point-to-plane
-    /// information (1 = isotropic, 0 = a direction is not observed, e.g. one wall).
+    /// information of the kept matches (1 = isotropic, 0 = a direction is not observed, e.g. one
+    /// wall).
     double observability = 0.0;
 };
 
