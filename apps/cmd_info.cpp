@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <utility>
 
 #include "commands.hpp"
 #include "dorado/core/time.hpp"
@@ -79,8 +80,18 @@ int RunInfo(const std::string &dataset_arg) {
 
     auto reader = io::OpenDataset(config);
     ProblemLog problems;
+    // A topic the description names that is in the bag (a connection) but has no message.
+    const std::pair<std::string, const char *> roles[] = {
+        {config.rosbag.radar_topic, "rosbag.radar_topic"},
+        {config.rosbag.imu_topic, "rosbag.imu_topic"},
+        {config.rosbag.ground_truth_topic, "rosbag.ground_truth_topic"}};
+    for (const auto &t : topics)
+        for (const auto &[topic, key] : roles)
+            if (is_bag && t.messages == 0 && t.topic == topic)
+                problems.Add("configured topics without messages", t.topic + " (" + key + ")");
     Progress progress("reading scans", expected_scans);
     std::vector<double> points, intervals_ms;
+    std::vector<std::size_t> interval_ends;  // the scan index that ends each interval
     std::size_t scans = 0, bad = 0, imu = 0, gt = 0;
     int64_t first_ns = 0, last_ns = 0, last_imu_ns = INT64_MIN;
     double min_doppler = 0.0, max_doppler = 0.0;
@@ -119,6 +130,7 @@ int RunInfo(const std::string &dataset_arg) {
                         problems.Add("radar time not increasing", text);
                     } else {
                         intervals_ms.push_back(dt_ms);
+                        interval_ends.push_back(event.scan_index);
                     }
                 }
                 last_ns = std::max(last_ns, event.stamp_ns);
@@ -161,8 +173,8 @@ int RunInfo(const std::string &dataset_arg) {
             for (std::size_t i = 0; i < intervals_ms.size(); ++i) {
                 if (intervals_ms[i] > 5.0 * median_ms) {
                     char text[96];
-                    std::snprintf(text, sizeof(text), "%.2f s without a scan",
-                                  intervals_ms[i] * 1e-3);
+                    std::snprintf(text, sizeof(text), "%.2f s without a scan before scan %zu",
+                                  intervals_ms[i] * 1e-3, interval_ends[i]);
                     problems.Add("gaps longer than 5 scan intervals", text);
                 }
             }

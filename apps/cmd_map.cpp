@@ -102,9 +102,16 @@ void RunMap(const MapOptions &opt) {
     io::MakeDirectories(opt.out);
 
     std::size_t expected = 0;
-    if (dataset.reader == io::ReaderKind::kRosbag)
-        for (const auto &t : io::ListTopics(dataset))
+    if (dataset.reader == io::ReaderKind::kRosbag) {
+        for (const auto &t : io::ListTopics(dataset)) {
             if (t.topic == dataset.rosbag.radar_topic) expected = t.messages;
+            if (wants_imu && t.topic == dataset.rosbag.imu_topic && t.messages == 0) {
+                throw io::DatasetError(dataset.rosbag.path + ": topic '" + t.topic +
+                                       "' (rosbag.imu_topic) has no messages; --prior " +
+                                       opt.prior + " needs IMU samples");
+            }
+        }
+    }
     auto reader = io::OpenDataset(dataset);
     Progress progress("map", expected);
 
@@ -116,6 +123,8 @@ void RunMap(const MapOptions &opt) {
            "time_map_update_ms,time_total_ms,correspondences,fitness,fallback,fallback_reason\n";
     std::map<std::string, int> fallback_reasons, prior_substitutions;
     SkipLog skips;
+    GapWatch gaps;
+    Eigen::Index nonfinite_points = 0;
     std::vector<double> total_ms;
     std::size_t scans = 0, registered = 0, unmasked = 0;
     int64_t last_stamp = 0;
@@ -134,7 +143,8 @@ void RunMap(const MapOptions &opt) {
         const bool first = trajectory.empty();
         if (!first && scan.stamp_ns <= last_stamp) {
             skips.Add(event.scan_index, "timestamp out of order",
-                      "timestamp not after the previous scan");
+                      "stamp " + std::to_string(scan.stamp_ns) +
+                          " ns is not after the previous scan's " + std::to_string(last_stamp));
             continue;
         }
         const auto t_start = std::chrono::steady_clock::now();
@@ -154,6 +164,7 @@ void RunMap(const MapOptions &opt) {
         const double dt = first ? 0.1 : NanosToSeconds(scan.stamp_ns - last_stamp);
         mapping::MotionPrior prior;
         prior.covariance = Matrix6d::Identity() * 1e-6;  // the first scan defines the world
+        std::string prior_used = "first scan";
         if (!first) {
             const Eigen::Isometry3d &T_last = trajectory.poses().back().T_world_body;
             const bool has_two = trajectory.size() >= 2 && last_dt > 0.0;
@@ -193,12 +204,14 @@ void RunMap(const MapOptions &opt) {
                         dataset.extrinsics.T_base_imu, dt, config.prior);
                 }
             }
+            prior_used = opt.prior;
             if (!built) {  // no IMU sample / no valid Doppler velocity for this scan
                 prior_substitutions[ego.valid || !wants_doppler
                                         ? "no imu samples"
                                         : "doppler: " +
                                               ego.reason.substr(0, ego.reason.find(':'))]++;
                 built = constvel();
+                prior_used = "constvel";
             }
             prior = *built;
         }
@@ -209,6 +222,19 @@ void RunMap(const MapOptions &opt) {
         total_ms.push_back(total);
         if (r.fallback)
             fallback_reasons[r.fallback_reason.substr(0, r.fallback_reason.find(" ("))]++;
+        if (scan.empty()) {
+            const Eigen::Index removed = event.removed_nonfinite_points;
+            skips.Warn(event.scan_index, "no finite points",
+                       (removed > 0 ? std::to_string(removed) +
+                                          " points with NaN/Inf values removed, none left"
+                                    : std::string("no points")) +
+                           ": pose from the " + prior_used + " prior");
+        }
+        if (!first && gaps.IsGap(dt)) {
+            skips.Warn(event.scan_index, "gap",
+                       gaps.Describe(dt) + "; the " + prior_used + " prior spans it");
+        }
+        nonfinite_points += event.removed_nonfinite_points;
         trajectory.Append(scan.stamp_ns, r.T_world_base);
         positions.push_back(r.T_world_base.translation());
         // The output map: the same points the mapper used (static, in range), finer voxels.
@@ -260,6 +286,9 @@ void RunMap(const MapOptions &opt) {
         {"scans_skipped", scans - registered},
         {"skip_reasons", skips.Counts()},
         {"skipped", skips.Scans()},
+        {"warnings", skips.WarningCounts()},
+        {"warned", skips.Warnings()},
+        {"nonfinite_points_removed", nonfinite_points},
         {"fallbacks", mapper.fallbacks()},
         {"fallback_reasons", fallback_reasons},
         {"prior_substitutions_constvel", prior_substitutions},

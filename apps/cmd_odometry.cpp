@@ -130,9 +130,17 @@ void RunOdometry(const OdometryOptions &opt) {
     if (opt.masks) io::MakeDirectories(opt.out + "/masks");
 
     std::size_t expected = 0;
-    if (dataset.reader == io::ReaderKind::kRosbag)
-        for (const auto &t : io::ListTopics(dataset))
+    if (dataset.reader == io::ReaderKind::kRosbag) {
+        for (const auto &t : io::ListTopics(dataset)) {
             if (t.topic == dataset.rosbag.radar_topic) expected = t.messages;
+            if (needs_imu && t.topic == dataset.rosbag.imu_topic && t.messages == 0) {
+                throw io::DatasetError(
+                    dataset.rosbag.path + ": topic '" + t.topic +
+                    "' (rosbag.imu_topic) has no messages; rotation from the IMU "
+                    "needs IMU samples");
+            }
+        }
+    }
     auto reader = io::OpenDataset(dataset);
     Progress progress("odometry", expected);
     GyroWindow gyro(dataset.extrinsics.T_base_imu.linear());
@@ -140,7 +148,9 @@ void RunOdometry(const OdometryOptions &opt) {
     std::vector<double> times_ms, inlier_ratios;
     std::map<std::string, int> invalid_reasons;
     SkipLog skips;
+    GapWatch gaps;
     std::size_t scans = 0, used = 0, fallbacks = 0;
+    Eigen::Index nonfinite_points = 0;
     int64_t last_stamp = 0;
     bool has_last = false;
     io::DatasetEvent event;
@@ -164,6 +174,19 @@ void RunOdometry(const OdometryOptions &opt) {
             skips.Add(event.scan_index, "timestamp out of order", step.skip_reason);
             continue;
         }
+        if (event.scan.empty()) {
+            const Eigen::Index removed = event.removed_nonfinite_points;
+            skips.Warn(event.scan_index, "no finite points",
+                       (removed > 0 ? std::to_string(removed) +
+                                          " points with NaN/Inf values removed, none left"
+                                    : std::string("no points")) +
+                           (step.used_fallback ? ": " + step.fallback_reason : std::string()));
+        }
+        if (has_last && gaps.IsGap(step.dt_s)) {
+            skips.Warn(event.scan_index, "gap",
+                       gaps.Describe(step.dt_s) + "; integrated this scan's twist over it");
+        }
+        nonfinite_points += event.removed_nonfinite_points;
         has_last = true;
         last_stamp = event.stamp_ns;
         ++used;
@@ -194,6 +217,9 @@ void RunOdometry(const OdometryOptions &opt) {
                               {"scans_skipped", scans - used},
                               {"skip_reasons", skips.Counts()},
                               {"skipped", skips.Scans()},
+                              {"warnings", skips.WarningCounts()},
+                              {"warned", skips.Warnings()},
+                              {"nonfinite_points_removed", nonfinite_points},
                               {"scans_with_fallback_twist", fallbacks},
                               {"invalid_velocity_reasons", invalid_reasons},
                               {"inlier_ratio", Stats(inlier_ratios)},

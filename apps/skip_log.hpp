@@ -1,9 +1,10 @@
 #pragma once
 /// @file skip_log.hpp
-/// The scans a command could not use: each is counted by kind, listed with its reason in
-/// summary.json, and announced on stderr as it happens.
+/// The scans a command could not use, and the faults of scans it used anyway: each is counted by
+/// kind, listed with its reason in summary.json, and announced on stderr as it happens.
 
 #include <cstddef>
+#include <cstdio>
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -21,14 +22,52 @@ class SkipLog {
         std::cerr << "dorado: warning: scan " << scan_index << ": " << reason << "\n";
     }
 
+    /// Records a fault in scan `scan_index` that did not stop it being used (no finite point left,
+    /// a gap before it); `what` says what the command did about it.
+    void Warn(std::size_t scan_index, const std::string &kind, const std::string &what) {
+        ++warning_counts_[kind];
+        warnings_.push_back({{"scan", scan_index}, {"warning", what}});
+        std::cerr << "dorado: warning: scan " << scan_index << ": " << what << "\n";
+    }
+
     /// {"kind": count, ...} for summary.json's "skip_reasons".
     [[nodiscard]] nlohmann::json Counts() const { return counts_; }
     /// [{"scan": i, "reason": "..."}, ...] for summary.json's "skipped".
     [[nodiscard]] const nlohmann::json &Scans() const { return scans_; }
+    /// {"kind": count, ...} for summary.json's "warnings".
+    [[nodiscard]] nlohmann::json WarningCounts() const { return warning_counts_; }
+    /// [{"scan": i, "warning": "..."}, ...] for summary.json's "warned".
+    [[nodiscard]] const nlohmann::json &Warnings() const { return warnings_; }
 
   private:
-    std::map<std::string, int> counts_;
+    std::map<std::string, int> counts_, warning_counts_;
     nlohmann::json scans_ = nlohmann::json::array();
+    nlohmann::json warnings_ = nlohmann::json::array();
+};
+
+/// Tells a gap in the scan stream from the ordinary interval: an interval longer than kFactor
+/// times the last ordinary one (`dorado info` lists gaps of 5 median intervals the same way).
+class GapWatch {
+  public:
+    static constexpr double kFactor = 5.0;
+
+    /// True when `dt_s` is a gap; otherwise `dt_s` becomes the ordinary interval.
+    bool IsGap(double dt_s) {
+        if (ordinary_s_ > 0.0 && dt_s > kFactor * ordinary_s_) return true;
+        ordinary_s_ = dt_s;
+        return false;
+    }
+    /// "10.10 s after the previous scan (ordinary interval 0.10 s)".
+    [[nodiscard]] std::string Describe(double dt_s) const {
+        char text[96];
+        std::snprintf(text, sizeof(text),
+                      "%.2f s after the previous scan (ordinary interval %.2f s)", dt_s,
+                      ordinary_s_);
+        return text;
+    }
+
+  private:
+    double ordinary_s_ = 0.0;
 };
 
 }  // namespace dorado::apps

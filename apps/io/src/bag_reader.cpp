@@ -9,6 +9,7 @@
 #include <sensor_msgs/PointCloud2.h>
 
 #include <map>
+#include <utility>
 
 #include "readers.hpp"
 
@@ -91,6 +92,18 @@ void OpenBag(rosbag::Bag &bag, const std::string &path) {
     }
 }
 
+/// Every topic in the bag with its type, including a topic registered (a connection record) without
+/// any message, which `rosbag info` lists with 0 msgs. View::getConnections() omits such a topic;
+/// the query of a View is asked about every connection.
+std::map<std::string, std::string> TopicTypes(const rosbag::Bag &bag) {
+    std::map<std::string, std::string> topics;
+    const rosbag::View probe(bag, [&topics](const rosbag::ConnectionInfo *c) {
+        topics.emplace(c->topic, c->datatype);
+        return false;
+    });
+    return topics;
+}
+
 StampedPose PoseOf(const geometry_msgs::Pose &pose, int64_t stamp_ns) {
     StampedPose out;
     out.stamp_ns = stamp_ns;
@@ -106,13 +119,18 @@ class BagReader final : public DatasetReader {
     explicit BagReader(const DatasetConfig &config) : config_(config) {
         const std::string &path = config.rosbag.path;
         OpenBag(bag_, path);
-        std::vector<std::string> topics{config.rosbag.radar_topic};
-        if (!config.rosbag.imu_topic.empty()) topics.push_back(config.rosbag.imu_topic);
+        // The topics to read, with the dataset description's key that names each.
+        std::vector<std::pair<std::string, std::string>> topics{
+            {config.rosbag.radar_topic, "rosbag.radar_topic"}};
+        if (!config.rosbag.imu_topic.empty())
+            topics.emplace_back(config.rosbag.imu_topic, "rosbag.imu_topic");
         if (!config.rosbag.ground_truth_topic.empty())
-            topics.push_back(config.rosbag.ground_truth_topic);
+            topics.emplace_back(config.rosbag.ground_truth_topic, "rosbag.ground_truth_topic");
         try {
             CheckTopicsExist(topics);
-            view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(topics));
+            std::vector<std::string> names;
+            for (const auto &topic : topics) names.push_back(topic.first);
+            view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(names));
             it_ = view_->begin();
         } catch (const rosbag::BagException &e) {
             throw DatasetError(path + ": cannot read the bag's index: " + e.what());
@@ -162,17 +180,14 @@ class BagReader final : public DatasetReader {
         return false;
     }
 
-    void CheckTopicsExist(const std::vector<std::string> &topics) {
-        rosbag::View all(bag_);
-        std::map<std::string, std::string> present;
-        for (const auto *c : all.getConnections()) present[c->topic] = c->datatype;
-        for (const auto &topic : topics) {
+    void CheckTopicsExist(const std::vector<std::pair<std::string, std::string>> &topics) {
+        const std::map<std::string, std::string> present = TopicTypes(bag_);
+        for (const auto &[topic, key] : topics) {
             if (present.count(topic)) continue;
             std::string list;
             for (const auto &[t, type] : present) list += "\n  " + t + " [" + type + "]";
-            throw DatasetError(
-                config_.rosbag.path + ": topic '" + topic +
-                "' is not in the bag; topics:" + (list.empty() ? std::string(" (none)") : list));
+            throw DatasetError(config_.rosbag.path + ": topic '" + topic + "' is not in the bag (" +
+                               key + "); topics:" + (list.empty() ? std::string(" (none)") : list));
         }
         ExpectType(present, config_.rosbag.radar_topic,
                    {"sensor_msgs/PointCloud2", "sensor_msgs/PointCloud"});
@@ -272,11 +287,10 @@ std::vector<TopicSummary> ListBagTopics(const DatasetConfig &config) {
     rosbag::Bag bag;
     OpenBag(bag, config.rosbag.path);
     std::map<std::string, TopicSummary> topics;
-    rosbag::View all(bag);
-    for (const auto *c : all.getConnections()) {
-        auto &summary = topics[c->topic];
-        summary.topic = c->topic;
-        summary.type = c->datatype;
+    for (const auto &[topic, type] : TopicTypes(bag)) {
+        auto &summary = topics[topic];
+        summary.topic = topic;
+        summary.type = type;
     }
     for (auto &[name, summary] : topics) {
         rosbag::View view(bag, rosbag::TopicQuery(name));
