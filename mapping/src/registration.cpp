@@ -25,7 +25,12 @@ void SetCommonOptions(Registration &reg, const MapperConfig &config, double thre
     reg.setMaximumIterations(config.max_iterations);
     reg.setTransformationEpsilon(1e-8);                // squared: 0.1 mm steps
     reg.setTransformationRotationEpsilon(1.0 - 1e-8);  // cos of ~0.008 deg
-    reg.setEuclideanFitnessEpsilon(1e-6);
+    // Radar correspondences flip between noisy neighbours, so the steps rarely fall below the
+    // epsilons above (95 % of alignments ran all iterations). Stop instead when the mean squared
+    // match distance changes by less than 0.1 %: the fit no longer improves, and the Ceres
+    // refinement polishes the pose. On bench_mapper: alignment 8.0 -> 4.8 ms per scan; on the
+    // paper benchmark the RPE is unchanged or better for every prior.
+    reg.setEuclideanFitnessEpsilon(1e-3);
 }
 
 template <typename PointT>
