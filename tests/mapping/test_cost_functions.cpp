@@ -37,6 +37,42 @@ void ExpectGradientsMatch(const ceres::CostFunction &cost, const Eigen::Isometry
     EXPECT_TRUE(checker.Probe(parameters.data(), 1e-7, &results)) << results.error_log;
 }
 
+// The registration residual written the plain way, differentiated by Ceres: the analytic Jacobians
+// must be what automatic differentiation gives, in the raw 4-vector quaternion coordinates too.
+struct AutoDiffRegistration {
+    Eigen::Vector3d p_base, q_world;
+    Eigen::Matrix3d W;
+    template <typename T>
+    bool operator()(const T *const p_ptr, const T *const q_ptr, T *r_ptr) const {
+        Eigen::Map<const Eigen::Matrix<T, 3, 1>> t(p_ptr);
+        Eigen::Map<const Eigen::Quaternion<T>> q(q_ptr);
+        Eigen::Map<Eigen::Matrix<T, 3, 1>> r(r_ptr);
+        r = W.cast<T>() * (q * p_base.cast<T>() + t - q_world.cast<T>());
+        return true;
+    }
+};
+
+TEST(CostFunctions, RegistrationErrorAnalyticJacobiansEqualAutomaticDifferentiation) {
+    const Eigen::Vector3d p_base(5.0, 2.3, -1.7), q_world(1.0, 2.0, 3.0);
+    const Eigen::Matrix3d W = ExpSO3(Eigen::Vector3d(0.3, -0.2, 0.5)) * 3.0;
+    std::unique_ptr<ceres::CostFunction> analytic(RegistrationError::Create(p_base, q_world, W));
+    ceres::AutoDiffCostFunction<AutoDiffRegistration, 3, 3, 4> automatic(
+        new AutoDiffRegistration{p_base, q_world, W});
+    for (const auto &T : {Pose(Xi(3.0, -1.0, 0.5, 0.1, -0.2, 0.7)), Pose(Xi(0, 0, 0, 0, 0, 0)),
+                          Pose(Xi(-2.0, 4.0, 1.0, 2.5, 0.3, -1.0))}) {
+        Eigen::Vector3d p = T.translation();
+        Eigen::Quaterniond q(T.linear());
+        const double *params[] = {p.data(), q.coeffs().data()};
+        double r_a[3], r_b[3], jt_a[9], jt_b[9], jq_a[12], jq_b[12];
+        double *jac_a[] = {jt_a, jq_a}, *jac_b[] = {jt_b, jq_b};
+        ASSERT_TRUE(analytic->Evaluate(params, r_a, jac_a));
+        ASSERT_TRUE(automatic.Evaluate(params, r_b, jac_b));
+        for (int i = 0; i < 3; ++i) EXPECT_NEAR(r_a[i], r_b[i], 1e-12);
+        for (int i = 0; i < 9; ++i) EXPECT_NEAR(jt_a[i], jt_b[i], 1e-12);
+        for (int i = 0; i < 12; ++i) EXPECT_NEAR(jq_a[i], jq_b[i], 1e-11) << i;
+    }
+}
+
 TEST(CostFunctions, RegistrationErrorGradientAndValue) {
     const Eigen::Isometry3d T = Pose(Xi(3.0, -1.0, 0.5, 0.1, -0.2, 0.7));
     const Eigen::Vector3d p_base(5.0, 2.3, -1.7), q_world(1.0, 2.0, 3.0);
