@@ -24,6 +24,7 @@
 #include "odometry_config.hpp"
 #include "progress.hpp"
 #include "skip_log.hpp"
+#include "stream_guard.hpp"
 
 namespace dorado::apps {
 namespace {
@@ -130,7 +131,8 @@ void RunMap(const MapOptions &opt) {
     int64_t last_stamp = 0;
     double last_dt = 0.0;
     io::DatasetEvent event;
-    while (reader->Next(event)) {
+    StreamGuard guard;  // Ctrl-C or a reader error mid-stream: stop, write what was done
+    while (guard.Next(*reader, event)) {
         if (event.kind == io::DatasetEvent::Kind::kImu) imu.push_back(event.imu);
         if (event.kind == io::DatasetEvent::Kind::kBadScan) {
             ++scans;
@@ -190,7 +192,8 @@ void RunMap(const MapOptions &opt) {
                 const odometry::VehicleMotion motion =
                     kinematics->Motion(ego.v_radar_mps, ego.cov_v_radar);
                 if (opt.prior == "doppler")
-                    built = mapping::PriorFromDoppler(T_last, TwistOf(motion, true), dt, config.prior);
+                    built =
+                        mapping::PriorFromDoppler(T_last, TwistOf(motion, true), dt, config.prior);
                 if (opt.prior == "imu+doppler") {
                     // The gyro gives omega and v_base = v_s - omega x s: no model error.
                     mapping::BaseTwist twist = TwistOf(motion, false);
@@ -263,7 +266,9 @@ void RunMap(const MapOptions &opt) {
                   imu.end());
     }
     progress.Finish();
-    if (registered == 0) throw io::DatasetError(reader->source() + ": no usable radar scan");
+    if (registered == 0)
+        throw io::DatasetError(reader->source() + ": no usable radar scan" +
+                               (guard.stopped().empty() ? "" : " before: " + guard.stopped()));
 
     io::WriteTum(opt.out + "/trajectory.tum", trajectory);
     const Eigen::Matrix3Xd map_points = output_map.Points();
@@ -281,6 +286,8 @@ void RunMap(const MapOptions &opt) {
         {"mask", use_mask},
         {"refinement", config.mapper.refinement == mapping::Refinement::kCeres ? "ceres" : "none"},
         {"method", mapping::ToString(config.mapper.method)},
+        {"stopped_early",
+         guard.stopped().empty() ? nlohmann::json() : nlohmann::json(guard.stopped())},
         {"scans", scans},
         {"scans_registered", registered},
         {"scans_skipped", scans - registered},
@@ -306,6 +313,7 @@ void RunMap(const MapOptions &opt) {
                  "%.1f m -> %s\n",
                  scans, registered, mapper.fallbacks(), mean, trajectory.PathLength(),
                  opt.out.c_str());
+    guard.ThrowIfStopped("map", scans, opt.out);
 }
 
 }  // namespace

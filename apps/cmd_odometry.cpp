@@ -18,6 +18,7 @@
 #include "odometry_config.hpp"
 #include "progress.hpp"
 #include "skip_log.hpp"
+#include "stream_guard.hpp"
 
 namespace dorado::apps {
 namespace {
@@ -154,7 +155,8 @@ void RunOdometry(const OdometryOptions &opt) {
     int64_t last_stamp = 0;
     bool has_last = false;
     io::DatasetEvent event;
-    while (reader->Next(event)) {
+    StreamGuard guard;  // Ctrl-C or a reader error mid-stream: stop, write what was done
+    while (guard.Next(*reader, event)) {
         if (event.kind == io::DatasetEvent::Kind::kImu) gyro.Add(event.imu);
         if (event.kind == io::DatasetEvent::Kind::kBadScan) {
             ++scans;
@@ -205,26 +207,31 @@ void RunOdometry(const OdometryOptions &opt) {
         }
     }
     progress.Finish();
-    if (used == 0) throw io::DatasetError(reader->source() + ": no usable radar scan");
+    if (used == 0)
+        throw io::DatasetError(reader->source() + ": no usable radar scan" +
+                               (guard.stopped().empty() ? "" : " before: " + guard.stopped()));
 
     io::WriteTum(opt.out + "/trajectory.tum", odometry.trajectory());
     io::WriteFileAtomically(opt.out + "/velocities.csv", [&](std::ostream &os) { os << csv; });
     const char *rotation_names[] = {"doppler", "imu", "imu-only"};
-    nlohmann::json summary = {{"dataset", dataset.name},
-                              {"rotation", rotation_names[static_cast<int>(config.rotation)]},
-                              {"scans", scans},
-                              {"scans_used", used},
-                              {"scans_skipped", scans - used},
-                              {"skip_reasons", skips.Counts()},
-                              {"skipped", skips.Scans()},
-                              {"warnings", skips.WarningCounts()},
-                              {"warned", skips.Warnings()},
-                              {"nonfinite_points_removed", nonfinite_points},
-                              {"scans_with_fallback_twist", fallbacks},
-                              {"invalid_velocity_reasons", invalid_reasons},
-                              {"inlier_ratio", Stats(inlier_ratios)},
-                              {"time_per_scan_ms", Stats(times_ms)},
-                              {"path_length_m", odometry.trajectory().PathLength()}};
+    nlohmann::json summary = {
+        {"dataset", dataset.name},
+        {"rotation", rotation_names[static_cast<int>(config.rotation)]},
+        {"stopped_early",
+         guard.stopped().empty() ? nlohmann::json() : nlohmann::json(guard.stopped())},
+        {"scans", scans},
+        {"scans_used", used},
+        {"scans_skipped", scans - used},
+        {"skip_reasons", skips.Counts()},
+        {"skipped", skips.Scans()},
+        {"warnings", skips.WarningCounts()},
+        {"warned", skips.Warnings()},
+        {"nonfinite_points_removed", nonfinite_points},
+        {"scans_with_fallback_twist", fallbacks},
+        {"invalid_velocity_reasons", invalid_reasons},
+        {"inlier_ratio", Stats(inlier_ratios)},
+        {"time_per_scan_ms", Stats(times_ms)},
+        {"path_length_m", odometry.trajectory().PathLength()}};
     io::WriteFileAtomically(opt.out + "/summary.json",
                             [&](std::ostream &os) { os << summary.dump(2) << '\n'; });
     std::fprintf(stderr,
@@ -233,6 +240,7 @@ void RunOdometry(const OdometryOptions &opt) {
                  scans, used, fallbacks,
                  times_ms.empty() ? 0.0 : summary["time_per_scan_ms"]["mean"].get<double>(),
                  odometry.trajectory().PathLength(), opt.out.c_str());
+    guard.ThrowIfStopped("odometry", scans, opt.out);
 }
 
 }  // namespace

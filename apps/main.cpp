@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "stream_guard.hpp"
 
 int main(int argc, char **argv) {
     CLI::App app{
@@ -24,6 +25,9 @@ int main(int argc, char **argv) {
         app.parse(argc, argv);
     } catch (const CLI::ParseError &e) {
         return app.exit(e);
+    } catch (const dorado::apps::StoppedEarly &e) {
+        std::cerr << "dorado: error: " << e.what() << "\n";
+        return e.exit_code();
     } catch (const std::exception &e) {
         std::cerr << "dorado: error: " << e.what() << "\n";
         return 1;

@@ -29,9 +29,11 @@ class CmdOdometry : public ::testing::Test {
     static void TearDownTestSuite() { fs::remove_all(dir_); }
 
     // Runs dorado with the arguments; returns the exit code, stderr in `err`.
-    static int Dorado(const std::string &args, std::string *err = nullptr) {
+    static int Dorado(const std::string &args, std::string *err = nullptr,
+                      const std::string &environment = "") {
         const std::string log = (dir_ / "stderr.txt").string();
-        const std::string cmd = std::string(DORADO_BINARY) + " " + args + " 2> " + log;
+        const std::string cmd =
+            environment + std::string(DORADO_BINARY) + " " + args + " 2> " + log;
         const int status = std::system(cmd.c_str());
         std::ifstream in(log);
         std::stringstream ss;
@@ -72,6 +74,7 @@ TEST_F(CmdOdometry, DopplerOdometryFollowsTheCircleAndReportsTheBadScan) {
     const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
     EXPECT_EQ(summary["scans"], 60);
     EXPECT_EQ(summary["scans_with_fallback_twist"], 1);
+    EXPECT_TRUE(summary["stopped_early"].is_null());  // ran to the end
     EXPECT_NEAR(summary["inlier_ratio"]["median"].get<double>(), 0.8, 0.01);  // 20 % moving
 
     std::ifstream csv(out / "velocities.csv");
@@ -129,6 +132,28 @@ TEST_F(CmdOdometry, CalibrateSxRecoversTheLeverArm) {
     const double s_x = std::stod(yaml.substr(pos + 16));
     EXPECT_NEAR(s_x, 0.9, 0.02) << yaml;
     EXPECT_NE(yaml.find("rotation_rpy_deg: [0, 0, 10"), std::string::npos) << yaml;
+}
+
+// Ctrl-C in the middle of a run (a real SIGINT, raised by the process itself after scan 25 through
+// the test hook): the scans done so far are written, the summary says why it stopped, exit 130.
+TEST_F(CmdOdometry, InterruptWritesTheScansDoneAndExits130) {
+    for (const std::string command : {"odometry", "map"}) {
+        const fs::path out = dir_ / ("interrupted_" + command);
+        std::string err;
+        const std::string args = command + " " + Dataset() + " --out " + out.string() +
+                                 (command == "map" ? " --prior doppler" : "");
+        EXPECT_EQ(Dorado(args, &err, "DORADO_TEST_SIGINT_AFTER_SCANS=25 "), 130) << err;
+        EXPECT_NE(err.find(command + " stopped early after 25 scans: interrupted (SIGINT)"),
+                  std::string::npos)
+            << err;
+        const auto trajectory = dorado::io::ReadTum((out / "trajectory.tum").string());
+        EXPECT_EQ(trajectory.size(), 25u) << command;
+        for (std::size_t i = 0; i < trajectory.size(); ++i)
+            EXPECT_TRUE(trajectory[i].T_world_body.matrix().allFinite());
+        const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+        EXPECT_EQ(summary["scans"], 25) << command;
+        EXPECT_EQ(summary["stopped_early"], "interrupted (SIGINT)") << command;
+    }
 }
 
 TEST_F(CmdOdometry, BadInputGivesOneClearError) {

@@ -1,0 +1,62 @@
+#include "stream_guard.hpp"
+
+#include <csignal>
+#include <cstdlib>
+
+namespace dorado::apps {
+
+namespace {
+
+volatile std::sig_atomic_t g_signal = 0;
+
+extern "C" void OnSignal(int signal_number) {
+    g_signal = signal_number;
+    std::signal(signal_number, SIG_DFL);  // a second Ctrl-C ends the process at once
+}
+
+using Handler = void (*)(int);
+Handler g_previous_int = SIG_DFL, g_previous_term = SIG_DFL;
+
+}  // namespace
+
+StreamGuard::StreamGuard() {
+    g_signal = 0;
+    g_previous_int = std::signal(SIGINT, OnSignal);
+    g_previous_term = std::signal(SIGTERM, OnSignal);
+    if (const char *hook = std::getenv("DORADO_TEST_SIGINT_AFTER_SCANS"))
+        sigint_after_scans_ = std::strtol(hook, nullptr, 10);
+}
+
+StreamGuard::~StreamGuard() {
+    std::signal(SIGINT, g_previous_int);
+    std::signal(SIGTERM, g_previous_term);
+}
+
+bool StreamGuard::Next(io::DatasetReader &reader, io::DatasetEvent &event) {
+    if (!reason_.empty()) return false;
+    if (g_signal != 0) {
+        signalled_ = true;
+        reason_ = g_signal == SIGINT ? "interrupted (SIGINT)" : "terminated (SIGTERM)";
+        return false;
+    }
+    try {
+        const bool more = reader.Next(event);
+        if (more && event.kind == io::DatasetEvent::Kind::kRadarScan &&
+            ++scans_seen_ == sigint_after_scans_)
+            std::raise(SIGINT);  // handled by OnSignal: this scan is still processed
+        return more;
+    } catch (const io::DatasetError &e) {
+        reason_ = e.what();
+        return false;
+    }
+}
+
+void StreamGuard::ThrowIfStopped(const std::string &command, std::size_t scans,
+                                 const std::string &out_dir) const {
+    if (reason_.empty()) return;
+    throw StoppedEarly(command + " stopped early after " + std::to_string(scans) +
+                           " scans: " + reason_ + "; the results of those scans are in " + out_dir,
+                       exit_code());
+}
+
+}  // namespace dorado::apps
