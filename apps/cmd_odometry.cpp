@@ -71,7 +71,8 @@ constexpr const char *kCsvHeader =
     "t,v_radar_x,v_radar_y,v_radar_z,cov_v_xx,cov_v_xy,cov_v_xz,cov_v_yy,cov_v_yz,cov_v_zz,"
     "omega_base_x,omega_base_y,omega_base_z,cov_omega_xx,cov_omega_xy,cov_omega_xz,cov_omega_yy,"
     "cov_omega_yz,cov_omega_zz,v_base_x,v_base_y,v_base_z,inliers,points,valid,reason,"
-    "gyro_base_x,gyro_base_y,gyro_base_z,time_ms\n";
+    "gyro_base_x,gyro_base_y,gyro_base_z,time_ms,cov_omega_model_xx,cov_omega_model_xy,"
+    "cov_omega_model_xz,cov_omega_model_yy,cov_omega_model_yz,cov_omega_model_zz\n";
 
 std::string CsvRow(const odometry::OdometryStep &step, Eigen::Index points,
                    const Eigen::Vector3d &gyro_base, double time_ms) {
@@ -90,7 +91,10 @@ std::string CsvRow(const odometry::OdometryStep &step, Eigen::Index points,
         step.used_fallback ? step.fallback_reason : (e.valid ? "" : e.reason);
     row << ',' << e.inliers << ',' << points << ',' << (e.valid ? 1 : 0) << ',' << CsvText(reason);
     for (int k = 0; k < 3; ++k) row << ',' << Num(gyro_base[k]);
-    row << ',' << Num(time_ms) << '\n';
+    row << ',' << Num(time_ms);
+    // The kinematic model's own error (vehicle.model_noise): add it to cov_omega for the total.
+    AppendCovariance(row, step.motion.cov_model.bottomRightCorner<3, 3>());
+    row << '\n';
     return row.str();
 }
 

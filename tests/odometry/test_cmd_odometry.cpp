@@ -74,18 +74,29 @@ TEST_F(CmdOdometry, DopplerOdometryFollowsTheCircleAndReportsTheBadScan) {
     const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
     EXPECT_EQ(summary["scans"], 60);
     EXPECT_EQ(summary["scans_with_fallback_twist"], 1);
-    EXPECT_TRUE(summary["stopped_early"].is_null());  // ran to the end
+    EXPECT_TRUE(summary["stopped_early"].is_null());                          // ran to the end
     EXPECT_NEAR(summary["inlier_ratio"]["median"].get<double>(), 0.8, 0.01);  // 20 % moving
 
     std::ifstream csv(out / "velocities.csv");
     std::string header, line;
     std::getline(csv, header);
     EXPECT_EQ(header.rfind("t,v_radar_x,v_radar_y,v_radar_z,cov_v_xx", 0), 0u);
-    EXPECT_NE(header.find("gyro_base_x,gyro_base_y,gyro_base_z,time_ms"), std::string::npos);
+    EXPECT_NE(header.find("gyro_base_x,gyro_base_y,gyro_base_z,time_ms,cov_omega_model_xx"),
+              std::string::npos);
     int rows = 0, invalid = 0;
+    // The model's yaw-rate variance with the default vehicle.model_noise, by hand: the rear axle's
+    // lateral velocity (ICR 0.1 m * |w|, slip 0.005 * v^2 * |w|, 0.02 m/s) over s_x, and the
+    // unobserved roll rate (0.05 rad/s) through the lever arm s_z / s_x (make_odometry_bag.py).
+    const double w = 0.4, v = 2.0, s_x = 0.9, s_z = 0.6;
+    const double lateral = std::pow(0.1 * w, 2) + std::pow(0.005 * v * v * w, 2) + 0.02 * 0.02;
+    const double expected_zz = lateral / (s_x * s_x) + std::pow(s_z / s_x * 0.05, 2);
     while (std::getline(csv, line)) {
         ++rows;
         invalid += line.find(",0,\"") != std::string::npos;
+        if (rows == 20) {
+            EXPECT_NEAR(std::stod(line.substr(line.rfind(',') + 1)), expected_zz,
+                        0.05 * expected_zz);
+        }
     }
     EXPECT_EQ(rows, 60);
     EXPECT_EQ(invalid, 1);
