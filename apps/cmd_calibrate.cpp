@@ -27,7 +27,7 @@ struct CalibrateOptions {
 /// frame over the interval since the previous scan (NaN without IMU).
 struct Samples {
     std::vector<Eigen::Vector3d> v_radar, gyro_base;
-    std::size_t scans = 0, rejected = 0;
+    std::size_t scans = 0, rejected = 0, imu_samples = 0;
 };
 
 Samples Collect(const CalibrateOptions &opt, const io::DatasetConfig &dataset) {
@@ -43,7 +43,10 @@ Samples Collect(const CalibrateOptions &opt, const io::DatasetConfig &dataset) {
     int64_t first_ns = 0, last_ns = 0;
     io::DatasetEvent event;
     while (reader->Next(event)) {
-        if (event.kind == io::DatasetEvent::Kind::kImu) imu.push_back(event.imu);
+        if (event.kind == io::DatasetEvent::Kind::kImu) {
+            imu.push_back(event.imu);
+            ++out.imu_samples;
+        }
         if (event.kind != io::DatasetEvent::Kind::kRadarScan) continue;
         if (!has_first) first_ns = event.stamp_ns, has_first = true;
         progress.Update(++out.scans);
@@ -116,6 +119,11 @@ void RunCalibrate(const CalibrateOptions &opt) {
             v_s.push_back(T.linear() * samples.v_radar[i]);
             yaw.push_back(samples.gyro_base[i].z());
         }
+        if (v_s.empty() && !samples.v_radar.empty())
+            throw io::DatasetError(
+                dataset.rosbag.path + ": no gyro sample between the usable scans (" +
+                std::to_string(samples.imu_samples) + " messages on '" + dataset.rosbag.imu_topic +
+                "', key rosbag.imu_topic): s_x calibration needs the IMU's yaw rate");
         const auto c = odometry::CalibrateSx(v_s, yaw);
         T.translation().x() = c.s_x_m;
         comment << "# dorado calibrate sx: s_x = " << c.s_x_m << " +- " << c.sigma_m << " m from "

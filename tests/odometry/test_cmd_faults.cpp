@@ -327,6 +327,13 @@ TEST_F(CmdFaults, ConfiguredTopicsWithoutMessages) {
         EXPECT_EQ(r.code, 1) << prior;
         EXPECT_EQ(r.err, empty_imu + "--prior " + prior + " needs IMU samples\n") << prior;
     }
+    // s_x calibration needs the gyro: it says so, naming the topic and the key.
+    r = Dorado("calibrate sx " + EmptyTopics() + " --out " + (dir_ / "sx.yaml").string());
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("no gyro sample between the usable scans (0 messages on '/imu/data', key "
+                         "rosbag.imu_topic)"),
+              std::string::npos)
+        << r.err;
 
     r = Dorado("info " + EmptyTopics());
     ASSERT_EQ(r.code, 0) << r.err;
