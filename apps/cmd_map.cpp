@@ -102,17 +102,7 @@ void RunMap(const MapOptions &opt) {
         {config.output_voxel_m, 1, std::numeric_limits<double>::infinity()});
     io::MakeDirectories(opt.out);
 
-    std::size_t expected = 0;
-    if (dataset.reader == io::ReaderKind::kRosbag) {
-        for (const auto &t : io::ListTopics(dataset)) {
-            if (t.topic == dataset.rosbag.radar_topic) expected = t.messages;
-            if (wants_imu && t.topic == dataset.rosbag.imu_topic && t.messages == 0) {
-                throw io::DatasetError(dataset.rosbag.path + ": topic '" + t.topic +
-                                       "' (rosbag.imu_topic) has no messages; --prior " +
-                                       opt.prior + " needs IMU samples");
-            }
-        }
-    }
+    const std::size_t expected = CountRadarMessages(dataset, wants_imu, "--prior " + opt.prior);
     auto reader = io::OpenDataset(dataset);
     Progress progress("map", expected);
 
@@ -226,12 +216,8 @@ void RunMap(const MapOptions &opt) {
         if (r.fallback)
             fallback_reasons[r.fallback_reason.substr(0, r.fallback_reason.find(" ("))]++;
         if (scan.empty()) {
-            const Eigen::Index removed = event.removed_nonfinite_points;
-            skips.Warn(event.scan_index, "no finite points",
-                       (removed > 0 ? std::to_string(removed) +
-                                          " points with NaN/Inf values removed, none left"
-                                    : std::string("no points")) +
-                           ": pose from the " + prior_used + " prior");
+            skips.WarnNoFinitePoints(event.scan_index, event.removed_nonfinite_points,
+                                     ": pose from the " + prior_used + " prior");
         }
         if (!first && gaps.IsGap(dt)) {
             skips.Warn(event.scan_index, "gap",

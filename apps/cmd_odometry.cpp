@@ -134,18 +134,7 @@ void RunOdometry(const OdometryOptions &opt) {
     io::MakeDirectories(opt.out);
     if (opt.masks) io::MakeDirectories(opt.out + "/masks");
 
-    std::size_t expected = 0;
-    if (dataset.reader == io::ReaderKind::kRosbag) {
-        for (const auto &t : io::ListTopics(dataset)) {
-            if (t.topic == dataset.rosbag.radar_topic) expected = t.messages;
-            if (needs_imu && t.topic == dataset.rosbag.imu_topic && t.messages == 0) {
-                throw io::DatasetError(
-                    dataset.rosbag.path + ": topic '" + t.topic +
-                    "' (rosbag.imu_topic) has no messages; rotation from the IMU "
-                    "needs IMU samples");
-            }
-        }
-    }
+    const std::size_t expected = CountRadarMessages(dataset, needs_imu, "rotation from the IMU");
     auto reader = io::OpenDataset(dataset);
     Progress progress("odometry", expected);
     GyroWindow gyro(dataset.extrinsics.T_base_imu.linear());
@@ -181,12 +170,9 @@ void RunOdometry(const OdometryOptions &opt) {
             continue;
         }
         if (event.scan.empty()) {
-            const Eigen::Index removed = event.removed_nonfinite_points;
-            skips.Warn(event.scan_index, "no finite points",
-                       (removed > 0 ? std::to_string(removed) +
-                                          " points with NaN/Inf values removed, none left"
-                                    : std::string("no points")) +
-                           (step.used_fallback ? ": " + step.fallback_reason : std::string()));
+            skips.WarnNoFinitePoints(
+                event.scan_index, event.removed_nonfinite_points,
+                step.used_fallback ? ": " + step.fallback_reason : std::string());
         }
         if (has_last && gaps.IsGap(step.dt_s)) {
             skips.Warn(event.scan_index, "gap",

@@ -30,6 +30,17 @@ class SkipLog {
         std::cerr << "dorado: warning: scan " << scan_index << ": " << what << "\n";
     }
 
+    /// Warns that scan `scan_index` has no point left (`removed_nonfinite` of them had NaN/Inf
+    /// values, or it came empty); `what_was_done` says how it still got a pose.
+    void WarnNoFinitePoints(std::size_t scan_index, long long removed_nonfinite,
+                            const std::string &what_was_done) {
+        Warn(scan_index, "no finite points",
+             (removed_nonfinite > 0 ? std::to_string(removed_nonfinite) +
+                                          " points with NaN/Inf values removed, none left"
+                                    : std::string("no points")) +
+                 what_was_done);
+    }
+
     /// {"kind": count, ...} for summary.json's "skip_reasons".
     [[nodiscard]] nlohmann::json Counts() const { return counts_; }
     /// [{"scan": i, "reason": "..."}, ...] for summary.json's "skipped".

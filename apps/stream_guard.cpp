@@ -59,4 +59,19 @@ void StreamGuard::ThrowIfStopped(const std::string &command, std::size_t scans,
                        exit_code());
 }
 
+std::size_t CountRadarMessages(const io::DatasetConfig &dataset, bool needs_imu,
+                               const std::string &who_needs_it) {
+    std::size_t radar_messages = 0;
+    if (dataset.reader != io::ReaderKind::kRosbag) return radar_messages;
+    for (const auto &t : io::ListTopics(dataset)) {
+        if (t.topic == dataset.rosbag.radar_topic) radar_messages = t.messages;
+        if (needs_imu && t.topic == dataset.rosbag.imu_topic && t.messages == 0) {
+            throw io::DatasetError(dataset.rosbag.path + ": topic '" + t.topic +
+                                   "' (rosbag.imu_topic) has no messages; " + who_needs_it +
+                                   " needs IMU samples");
+        }
+    }
+    return radar_messages;
+}
+
 }  // namespace dorado::apps

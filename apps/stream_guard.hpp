@@ -44,6 +44,12 @@ class StreamGuard {
     long scans_seen_ = 0;
 };
 
+/// The number of radar messages in a bag (for the progress display; 0 for a folder), after
+/// checking that the IMU topic holds samples when `needs_imu`: a topic registered in the bag with
+/// no message throws io::DatasetError naming the topic, its key and `who_needs_it`.
+[[nodiscard]] std::size_t CountRadarMessages(const io::DatasetConfig &dataset, bool needs_imu,
+                                             const std::string &who_needs_it);
+
 /// Thrown by StreamGuard::ThrowIfStopped; main() prints it and exits with exit_code.
 class StoppedEarly : public std::runtime_error {
   public:

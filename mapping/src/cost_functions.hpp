@@ -12,6 +12,7 @@
 #include <cmath>
 #include <memory>
 
+#include "dorado/core/lie.hpp"
 #include "whitening.hpp"
 
 namespace dorado::mapping {
@@ -24,8 +25,9 @@ namespace dorado::mapping {
 // with W = L^-1, C = L L^T the covariance of e (the map neighbourhood's GICP-regularised shape
 // scaled by the point noise). For a flat neighbourhood this is a soft point-to-plane distance.
 //
-// Analytic Jacobians (the residual is evaluated for hundreds of matches per Ceres iteration; automatic
-// differentiation made it half the refinement's cost). With q = (u, w), Eigen's rotation of p is
+// Analytic Jacobians (the residual is evaluated for hundreds of matches per Ceres iteration;
+// automatic differentiation made it half the refinement's cost). With q = (u, w), Eigen's rotation
+// of p is
 //   f(u, w) = p + 2 w (u x p) + 2 u x (u x p) = p + 2 w (u x p) + 2 (u (u.p) - p (u.u)),
 //   df/dw = 2 (u x p),   df/du = -2 w [p]x + 2 ((u.p) I + u p^T - 2 p u^T),
 // and dr/dt = W, dr/dq = W [df/du | df/dw] (Eigen's x y z w order), as ceres::AutoDiff would give.
@@ -52,9 +54,9 @@ class RegistrationError : public ceres::SizedCostFunction<3, 3, 4> {
         }
         if (jacobians[1] != nullptr) {
             Eigen::Matrix<double, 3, 4> df_dq;
-            df_dq.leftCols<3>() = -2.0 * w * Hat(p) +
-                                  2.0 * (u.dot(p) * Eigen::Matrix3d::Identity() +
-                                         u * p.transpose() - 2.0 * p * u.transpose());
+            df_dq.leftCols<3>() =
+                -2.0 * w * Hat(p) + 2.0 * (u.dot(p) * Eigen::Matrix3d::Identity() +
+                                           u * p.transpose() - 2.0 * p * u.transpose());
             df_dq.col(3) = 2.0 * u_x_p;
             Eigen::Map<Eigen::Matrix<double, 3, 4, Eigen::RowMajor>> J_q(jacobians[1]);
             J_q = sqrt_information_ * df_dq;
@@ -69,12 +71,6 @@ class RegistrationError : public ceres::SizedCostFunction<3, 3, 4> {
     }
 
   private:
-    static Eigen::Matrix3d Hat(const Eigen::Vector3d &v) {
-        Eigen::Matrix3d m;
-        m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-        return m;
-    }
-
     Eigen::Vector3d p_base_;
     Eigen::Vector3d q_world_;
     Eigen::Matrix3d sqrt_information_;
@@ -159,15 +155,15 @@ class SharedRadarVelocity {
                         const Eigen::Isometry3d &T_world_base_prev, double dt_s)
         : velocity_(new RadarVelocityOfPose(T_base_radar, T_world_base_prev, dt_s)) {}
 
-    // The radar velocity at the pose (p, q); its Jacobians too when asked. False if Ceres' automatic
-    // differentiation failed.
+    // The radar velocity at the pose (p, q); its Jacobians too when asked. False if Ceres'
+    // automatic differentiation failed.
     bool Evaluate(const double *p, const double *q, bool with_jacobians) {
         const bool same_pose = valid_ && std::equal(p, p + 3, p_) && std::equal(q, q + 4, q_);
         if (same_pose && (has_jacobians_ || !with_jacobians)) return true;
         const double *parameters[] = {p, q};
         double *jacobians[] = {J_p_.data(), J_q_.data()};
-        valid_ = velocity_.Evaluate(parameters, v_radar_.data(),
-                                    with_jacobians ? jacobians : nullptr);
+        valid_ =
+            velocity_.Evaluate(parameters, v_radar_.data(), with_jacobians ? jacobians : nullptr);
         has_jacobians_ = valid_ && with_jacobians;
         std::copy(p, p + 3, p_);
         std::copy(q, q + 4, q_);

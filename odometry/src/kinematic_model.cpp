@@ -47,7 +47,8 @@ VehicleMotion KinematicModel::Motion(const Eigen::Vector3d &v_radar,
 // lateral velocity) and eq. (4) reads v_sz - omega_x s_y - omega_y (m - s_x) = dz (the Y-ICR
 // point's vertical velocity). The model solves them with dy = dz = omega_x = 0, so its estimate
 // minus the truth is
-//   omega_x: -omega_x,   omega_y: (dz + omega_x s_y) / (m - s_x),   omega_z: (dy - omega_x s_z) / s_x
+//   omega_x: -omega_x,   omega_y: (dz + omega_x s_y) / (m - s_x),   omega_z: (dy - omega_x s_z) /
+//   s_x
 // and, through v_base = v_s + s x omega (v_s is measured, not modelled), v_base: Hat(s) d_omega.
 Eigen::Matrix<double, 6, 3> KinematicModel::ViolationJacobian() const {
     const Eigen::Vector3d &s = p_base_radar_;

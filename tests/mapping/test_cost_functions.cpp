@@ -152,14 +152,16 @@ TEST(CostFunctions, SharedVelocityGivesWhatIndependentResidualsGive) {
         Eigen::Quaterniond q(T.linear());
         const double *params[] = {p.data(), q.coeffs().data()};
         for (const auto &[shared_cost, alone] :
-             {std::pair<const ceres::CostFunction *, const ceres::CostFunction *>{&a, a_alone.get()},
+             {std::pair<const ceres::CostFunction *, const ceres::CostFunction *>{&a,
+                                                                                  a_alone.get()},
               {&b, b_alone.get()}}) {
             double r_shared, r_alone, jp_s[3], jq_s[4], jp_a[3], jq_a[4];
             double *jac_s[] = {jp_s, jq_s}, *jac_a[] = {jp_a, jq_a};
             const bool with_jacobians = (k++ % 3) != 0;
             ASSERT_TRUE(shared_cost->Evaluate(params, &r_shared, with_jacobians ? jac_s : nullptr));
             ASSERT_TRUE(alone->Evaluate(params, &r_alone, jac_a));
-            EXPECT_DOUBLE_EQ(r_shared, r_alone);  // the Jet and double paths may differ in the last bit
+            EXPECT_DOUBLE_EQ(r_shared,
+                             r_alone);  // the Jet and double paths may differ in the last bit
             if (!with_jacobians) continue;
             for (int i = 0; i < 3; ++i) EXPECT_DOUBLE_EQ(jp_s[i], jp_a[i]);
             for (int i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(jq_s[i], jq_a[i]);

@@ -31,10 +31,10 @@ import rospy
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, PointCloud2, PointField
 
+# The same vehicle and mounts as the odometry test bag, and its dataset description.
+from make_odometry_bag import RADAR_YAW_DEG, S_X, S_Y, S_Z, dataset_yaml, rot_z
+
 SPEED, YAW_RATE = 2.0, 0.15
-S_X, S_Y, S_Z = 0.9, 0.1, 0.6
-HALF_WHEELBASE = 0.256
-RADAR_YAW_DEG = 10.0
 RATE, N_STATIC, N_MOVING, LANDMARKS = 10.0, 360, 40, 2500
 T0 = 1700000000
 RADAR, IMU, GT = "/hugin_raf_1/radar_data", "/imu/data", "/ground_truth/odom"
@@ -47,11 +47,6 @@ POINT_STEP_SCAN = 40
 ROW_STEP_SCAN = 45
 GAP_AFTER, GAP_S = 59, 10.0
 GOOD_SCANS = 30
-
-
-def rot_z(a, v):
-    c, s = math.cos(a), math.sin(a)
-    return (c * v[0] - s * v[1], s * v[0] + c * v[1], v[2])
 
 
 def scan_time(k):  # seconds after the first scan
@@ -187,26 +182,6 @@ def write_empty_topics(out_dir, rng, landmarks):
             bag.write(RADAR, cloud(stamp, data, len(data) // 32), stamp)
         register_without_messages(bag, IMU, Imu)
         register_without_messages(bag, GT, Odometry)
-
-
-def dataset_yaml(name, bag, imu_topic, gt_topic=""):
-    gt = f"\n  ground_truth_topic: {gt_topic}" if gt_topic else ""
-    return f"""name: {name}
-reader: rosbag
-rosbag:
-  path: {bag}
-  radar_topic: {RADAR}
-  imu_topic: {imu_topic}{gt}
-extrinsics:
-  T_base_radar:
-    translation_m: [{S_X}, {S_Y}, {S_Z}]
-    rotation_rpy_deg: [0.0, 0.0, {RADAR_YAW_DEG}]
-  T_base_imu:
-    translation_m: [0.2, 0.0, 0.3]
-    rotation_rpy_deg: [0.0, 0.0, 90.0]
-vehicle:
-  half_wheelbase_m: {HALF_WHEELBASE}
-"""
 
 
 def main(out_dir):

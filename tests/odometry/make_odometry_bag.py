@@ -31,6 +31,27 @@ def rot_z(a, v):
     return (c * v[0] - s * v[1], s * v[0] + c * v[1], v[2])
 
 
+def dataset_yaml(name, bag, imu_topic, gt_topic=""):
+    """The dataset description of a bag written with this mount (also used by make_fault_bag.py)."""
+    gt = f"\n  ground_truth_topic: {gt_topic}" if gt_topic else ""
+    return f"""name: {name}
+reader: rosbag
+rosbag:
+  path: {bag}
+  radar_topic: /hugin_raf_1/radar_data
+  imu_topic: {imu_topic}{gt}
+extrinsics:
+  T_base_radar:
+    translation_m: [{S_X}, {S_Y}, {S_Z}]
+    rotation_rpy_deg: [0.0, 0.0, {RADAR_YAW_DEG}]
+  T_base_imu:
+    translation_m: [0.2, 0.0, 0.3]
+    rotation_rpy_deg: [0.0, 0.0, 90.0]
+vehicle:
+  half_wheelbase_m: {HALF_WHEELBASE}
+"""
+
+
 def main(out_dir):
     os.makedirs(out_dir, exist_ok=True)
     rng = random.Random(7)
@@ -72,22 +93,7 @@ def main(out_dir):
             msg.data = data
             bag.write("/hugin_raf_1/radar_data", msg, t)
     with open(os.path.join(out_dir, "dataset.yaml"), "w") as f:
-        f.write(f"""name: odometry_e2e
-reader: rosbag
-rosbag:
-  path: data.bag
-  radar_topic: /hugin_raf_1/radar_data
-  imu_topic: /imu/data
-extrinsics:
-  T_base_radar:
-    translation_m: [{S_X}, {S_Y}, {S_Z}]
-    rotation_rpy_deg: [0.0, 0.0, {RADAR_YAW_DEG}]
-  T_base_imu:
-    translation_m: [0.2, 0.0, 0.3]
-    rotation_rpy_deg: [0.0, 0.0, 90.0]
-vehicle:
-  half_wheelbase_m: {HALF_WHEELBASE}
-""")
+        f.write(dataset_yaml("odometry_e2e", "data.bag", "/imu/data"))
     with open(os.path.join(out_dir, "truth.txt"), "w") as f:
         f.write(f"{SPEED} {YAW_RATE} {S_X}\n")
 

@@ -14,7 +14,7 @@ namespace {
 
 struct Rig {
     Extrinsics extrinsics;
-    VehicleGeometry geometry{0.256};
+    VehicleGeometry geometry{0.256, KinematicModelNoise{}};
     Vector6d xi;  // true body twist [v_base; omega_base]
     Rig() {
         extrinsics.T_base_radar.linear() = (Eigen::AngleAxisd(-0.2, Eigen::Vector3d::UnitZ()) *

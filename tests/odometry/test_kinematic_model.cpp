@@ -37,7 +37,7 @@ Eigen::Vector3d RadarVelocity(const Extrinsics &e, const VehicleGeometry &g, dou
 
 TEST(KinematicModel, RecoversTheTwistOfAConstrainedVehicle) {
     const Extrinsics e = MakeExtrinsics();
-    const VehicleGeometry g{0.256};
+    const VehicleGeometry g{0.256, KinematicModelNoise{}};
     const KinematicModel model(e, g);
     for (double yaw : {-0.8, 0.0, 0.5}) {
         for (double pitch : {-0.2, 0.0, 0.3}) {
@@ -53,7 +53,7 @@ TEST(KinematicModel, RecoversTheTwistOfAConstrainedVehicle) {
 TEST(KinematicModel, SignsMatchTheDerivation) {
     Extrinsics e;  // radar aligned with the base, 1 m ahead of the rear axle
     e.T_base_radar.translation() = Eigen::Vector3d(1.0, 0.0, 0.5);
-    const KinematicModel model(e, VehicleGeometry{0.25});
+    const KinematicModel model(e, VehicleGeometry{0.25, KinematicModelNoise{}});
     // Moving left at the radar, ahead of the rear axle: a left (counter-clockwise) turn.
     auto m = model.Motion(Eigen::Vector3d(2.0, 0.5, 0.0), Eigen::Matrix3d::Zero());
     EXPECT_DOUBLE_EQ(m.omega_base_radps.z(), 0.5);
@@ -65,7 +65,7 @@ TEST(KinematicModel, SignsMatchTheDerivation) {
 
 TEST(KinematicModel, CovarianceMatchesFiniteDifferenceJacobianAndEq7) {
     const Extrinsics e = MakeExtrinsics();
-    const VehicleGeometry g{0.3};
+    const VehicleGeometry g{0.3, KinematicModelNoise{}};
     const KinematicModel model(e, g);
     const Eigen::Vector3d v0(3.0, 0.2, -0.1);
     Eigen::Matrix3d A = Eigen::Matrix3d::Random();
@@ -97,9 +97,11 @@ TEST(KinematicModel, CovarianceMatchesFiniteDifferenceJacobianAndEq7) {
 TEST(KinematicModel, RejectsUnobservableMountings) {
     Extrinsics e;
     e.T_base_radar.translation() = Eigen::Vector3d(0.0, 0.0, 0.5);
-    EXPECT_THROW(KinematicModel(e, VehicleGeometry{0.25}), std::invalid_argument);
+    EXPECT_THROW(KinematicModel(e, VehicleGeometry{0.25, KinematicModelNoise{}}),
+                 std::invalid_argument);
     e.T_base_radar.translation().x() = 0.25;
-    EXPECT_THROW(KinematicModel(e, VehicleGeometry{0.25}), std::invalid_argument);
+    EXPECT_THROW(KinematicModel(e, VehicleGeometry{0.25, KinematicModelNoise{}}),
+                 std::invalid_argument);
 }
 
 // A vehicle that breaks all three constraints, simulated as a rigid body independently of the
@@ -109,7 +111,7 @@ TEST(KinematicModel, RejectsUnobservableMountings) {
 // sampling error).
 TEST(KinematicModel, ModelCovarianceMatchesMonteCarloOfAVehicleBreakingTheConstraints) {
     const Extrinsics e = MakeExtrinsics();
-    VehicleGeometry g{0.3};
+    VehicleGeometry g{0.3, KinematicModelNoise{}};
     g.model_noise = {0.1, 0.005, 0.02, 0.05, 0.05};
     const KinematicModel model(e, g);
     const double speed = 6.0, pitch_rate = 0.05, yaw_rate = 0.4, m = g.half_wheelbase_m;
@@ -118,13 +120,14 @@ TEST(KinematicModel, ModelCovarianceMatchesMonteCarloOfAVehicleBreakingTheConstr
     // The nominal (constraint-obeying) motion gives the reported model covariance.
     Eigen::Vector3d v_nominal, omega_nominal;
     const Eigen::Matrix<double, 6, 6> reported =
-        model.Motion(RadarVelocity(e, g, speed, pitch_rate, yaw_rate, &v_nominal, &omega_nominal),
-                     Eigen::Matrix3d::Zero())
+        model
+            .Motion(RadarVelocity(e, g, speed, pitch_rate, yaw_rate, &v_nominal, &omega_nominal),
+                    Eigen::Matrix3d::Zero())
             .cov_model;
     const auto &n = g.model_noise;
-    const double sigma_y = std::hypot(n.sigma_icr_x_m * yaw_rate,
-                                      n.rear_slip_rad_per_mps2 * speed * speed * yaw_rate,
-                                      n.sigma_lateral_mps);
+    const double sigma_y =
+        std::hypot(n.sigma_icr_x_m * yaw_rate, n.rear_slip_rad_per_mps2 * speed * speed * yaw_rate,
+                   n.sigma_lateral_mps);
     std::mt19937 rng(42);
     std::normal_distribution<double> gauss;
     const int trials = 200000;
@@ -160,7 +163,7 @@ TEST(KinematicModel, ModelCovarianceMatchesMonteCarloOfAVehicleBreakingTheConstr
 
 TEST(KinematicModel, ModelErrorGrowsWithYawRateAndSpeedAndVanishesWithoutNoise) {
     const Extrinsics e = MakeExtrinsics();
-    VehicleGeometry g{0.3};
+    VehicleGeometry g{0.3, KinematicModelNoise{}};
     const auto yaw_variance = [&](double speed, double yaw_rate) {
         Eigen::Vector3d v, w;
         return KinematicModel(e, g)

@@ -74,7 +74,6 @@ class KinematicModel {
     [[nodiscard]] Eigen::Matrix<double, 6, 6> ModelCovariance(
         const Eigen::Vector3d &v_base, const Eigen::Vector3d &omega_base) const;
 
-
     Eigen::Matrix3d R_base_radar_;
     Eigen::Vector3d p_base_radar_;  ///< s, the radar position in the base frame
     double half_wheelbase_m_;
