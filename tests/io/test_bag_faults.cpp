@@ -16,7 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 class BagFaultsTest : public ::testing::Test {
-protected:
+  protected:
     static void SetUpTestSuite() {
         dir_ = fs::path(::testing::TempDir()) / ("dorado_faults_" + std::to_string(::getpid()));
         const std::string cmd = std::string(DORADO_SYSTEM_PYTHON) + " " + DORADO_SOURCE_DIR +
@@ -30,7 +30,8 @@ protected:
 
     static std::string WriteVariant(const std::vector<char> &bytes) {
         const std::string path = (dir_ / "variant.bag").string();
-        std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+        std::ofstream(path, std::ios::binary | std::ios::trunc)
+            .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
         return path;
     }
 
@@ -85,7 +86,8 @@ TEST_F(BagFaultsTest, TruncatedAtFiftyOffsetsGivesAClearError) {
     std::uniform_int_distribution<std::size_t> offset(0, original_.size() - 1);
     for (int trial = 0; trial < 50; ++trial) {
         const std::size_t cut = offset(rng);
-        const Outcome o = ReadAll(WriteVariant(std::vector<char>(original_.begin(), original_.begin() + cut)));
+        const Outcome o =
+            ReadAll(WriteVariant(std::vector<char>(original_.begin(), original_.begin() + cut)));
         EXPECT_TRUE(o.open_error) << "cut at " << cut;
         EXPECT_NE(o.first_problem.find("rosbag reindex"), std::string::npos) << o.first_problem;
     }
@@ -107,8 +109,10 @@ TEST_F(BagFaultsTest, FlippedBytesNeverCrashAndAreReported) {
             EXPECT_LE(o.scans, 40u);
         }
     }
-    std::printf("flipped bytes, 50 trials: %zu scans read, %zu reported unreadable, %zu bags refused at open\n",
-                total_scans, total_bad, open_errors);
+    std::printf(
+        "flipped bytes, 50 trials: %zu scans read, %zu reported unreadable, %zu bags refused at "
+        "open\n",
+        total_scans, total_bad, open_errors);
     EXPECT_GT(total_scans, 0u) << "damage stays local: most scans survive";
 }
 
