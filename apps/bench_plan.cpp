@@ -10,6 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "dorado/io/yaml_section.hpp"
+
 namespace dorado::apps {
 
 namespace fs = std::filesystem;
@@ -53,6 +55,15 @@ std::vector<std::string> GetMethods(const YAML::Node &root, const std::string &k
     return methods;
 }
 
+// A misspelled key must not silently fall back to a default: dorado_io's strict section
+// reports the first unknown key with the nearest known one.
+void RejectUnknownKeys(const YAML::Node &node, std::initializer_list<const char *> known,
+                       const std::string &origin, const std::string &where) {
+    io::YamlSection section(node, origin, where);
+    for (const char *key : known) (void)section.Has(key);
+    section.RejectUnknownKeys();
+}
+
 BenchSequence ParseSequence(const YAML::Node &node, std::size_t index, const std::string &base_dir,
                             const std::string &origin) {
     const std::string where = "sequences[" + std::to_string(index) + "].";
@@ -61,9 +72,13 @@ BenchSequence ParseSequence(const YAML::Node &node, std::size_t index, const std
     if (s.name.empty() || s.name.find_first_of("/\\ ") != std::string::npos) {
         Fail(origin, where + "name", "must be a non-empty name without '/' or spaces");
     }
+    RejectUnknownKeys(node, {"name", "simulate", "dataset", "ground_truth"}, origin,
+                      where.substr(0, where.size() - 1));
     if (node["simulate"]) {
         const YAML::Node sim = node["simulate"];
         const std::string sim_where = where + "simulate.";
+        RejectUnknownKeys(sim, {"sequence", "seed", "duration_s"}, origin,
+                          sim_where.substr(0, sim_where.size() - 1));
         s.simulate_sequence = Get<std::string>(sim, "sequence", s.name, origin, sim_where);
         s.seed = Get<int64_t>(sim, "seed", 1, origin, sim_where);
         s.duration_s = Get<double>(sim, "duration_s", 0.0, origin, sim_where);
@@ -105,6 +120,11 @@ BenchConfig ParseBenchConfig(const std::string &yaml_text, const std::string &ba
         throw std::runtime_error(origin + ": not valid YAML: " + e.what());
     }
     if (!root.IsMap()) throw std::runtime_error(origin + ": expected a YAML mapping");
+    RejectUnknownKeys(
+        root,
+        {"sequences", "odometry", "map_priors", "odometry_config", "map_config", "jobs",
+         "association_max_gap_s", "rpe_frame_delta", "rpe_second_delta_s", "reference"},
+        origin, "");
     BenchConfig config;
     if (!root["sequences"] || !root["sequences"].IsSequence() || root["sequences"].size() == 0) {
         Fail(origin, "sequences", "a non-empty list of sequences is required");
@@ -133,6 +153,12 @@ BenchConfig ParseBenchConfig(const std::string &yaml_text, const std::string &ba
     config.rpe_second_delta_s =
         Get<double>(root, "rpe_second_delta_s", config.rpe_second_delta_s, origin, "");
     if (!(config.rpe_second_delta_s > 0.0)) Fail(origin, "rpe_second_delta_s", "must be > 0");
+    try {
+        config.reference =
+            ParseBenchReference(Get<std::string>(root, "reference", "ground_truth", origin, ""));
+    } catch (const std::invalid_argument &e) {
+        Fail(origin, "reference", e.what());
+    }
     return config;
 }
 
@@ -144,6 +170,12 @@ BenchConfig LoadBenchConfig(const std::string &path) {
     return ParseBenchConfig(text.str(), fs::path(path).parent_path().string(), path);
 }
 
+BenchReference ParseBenchReference(const std::string &text) {
+    if (text == "ground_truth") return BenchReference::kGroundTruth;
+    if (text == "exact") return BenchReference::kExact;
+    throw std::invalid_argument("must be ground_truth or exact, got '" + text + "'");
+}
+
 std::vector<BenchRun> PlanBenchmark(const BenchConfig &config, const std::string &out_dir) {
     const fs::path out(out_dir);
     std::vector<BenchRun> runs;
@@ -151,10 +183,19 @@ std::vector<BenchRun> PlanBenchmark(const BenchConfig &config, const std::string
         std::string dataset = seq.dataset;
         std::string ground_truth = seq.ground_truth;
         std::vector<std::size_t> depends_on;
+        if (config.reference == BenchReference::kExact && seq.simulate_sequence.empty()) {
+            throw std::runtime_error("sequence '" + seq.name +
+                                     "': the exact reference needs a simulated sequence (this "
+                                     "one is recorded data: score it with reference: "
+                                     "ground_truth)");
+        }
         if (!seq.simulate_sequence.empty()) {
             const fs::path data_dir = out / "data" / seq.name;
             dataset = (data_dir / "dataset.yaml").string();
-            ground_truth = (data_dir / "ground_truth.tum").string();
+            ground_truth =
+                (data_dir / (config.reference == BenchReference::kExact ? "true_trajectory.tum"
+                                                                        : "ground_truth.tum"))
+                    .string();
             BenchRun sim{RunKind::kSimulate, seq.name, "simulate", dataset, ground_truth, {}};
             sim.job = {seq.name + "/simulate",
                        data_dir.string(),

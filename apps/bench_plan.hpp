@@ -25,6 +25,17 @@ struct BenchSequence {
     std::string ground_truth;
 };
 
+/// What the runs are scored against.
+enum class BenchReference {
+    kGroundTruth,  ///< the recorded ground truth (simulated: ground_truth.tum, with a lidar
+                   ///< mapper's error, as in the paper)
+    kExact,        ///< simulated sequences only: the exact trajectory (true_trajectory.tum), so
+                   ///< that an estimator's own error is not hidden under the reference's
+};
+
+/// Parses "ground_truth" | "exact"; throws std::invalid_argument otherwise.
+[[nodiscard]] BenchReference ParseBenchReference(const std::string &text);
+
 struct BenchConfig {
     std::vector<BenchSequence> sequences;
     /// Odometry methods (paper Fig. 5): imu (gyro rotation only), doppler, imu+doppler.
@@ -37,6 +48,7 @@ struct BenchConfig {
     double association_max_gap_s = 0.5;  ///< ground-truth interpolation gap limit
     int rpe_frame_delta = 1;
     double rpe_second_delta_s = 1.0;
+    BenchReference reference = BenchReference::kGroundTruth;
 };
 
 /// Reads and validates the YAML file; relative paths in it are taken from the file's directory.
@@ -59,7 +71,8 @@ struct BenchRun {
 };
 
 /// Runs in dependency order (each sequence's simulation before its runs). Layout under out_dir:
-/// data/<sequence>/ (simulations), runs/<sequence>/<method>/, logs/.
+/// data/<sequence>/ (simulations), runs/<sequence>/<method>/, logs/. Throws std::runtime_error
+/// naming the sequence when the reference is exact and a sequence is not simulated.
 [[nodiscard]] std::vector<BenchRun> PlanBenchmark(const BenchConfig &config,
                                                   const std::string &out_dir);
 

@@ -32,33 +32,33 @@ struct Metric {
 
 const std::vector<Metric> &Metrics() {
     using E = RunEvaluation;
+    using Values = std::vector<double>;
     static const std::vector<Metric> metrics{
         {"rpe_frame_translation", "m", true,
-         [](const E &e) -> const auto &{return e.rpe_frame.translation_m;
-}
-}  // namespace
-, {"rpe_frame_rotation", "deg", false,
-   [](const E &e) -> const auto &{return e.rpe_frame.rotation_deg;
-}  // namespace dorado::apps
-}
-, {"rpe_second_translation", "m", true,
-   [](const E &e) -> const auto &{return e.rpe_second.translation_m;
-}
-}
-, {"rpe_second_rotation", "deg", false,
-   [](const E &e) -> const auto &{return e.rpe_second.rotation_deg;
-}
-}
-, {"ate_translation", "m", true, [](const E &e) -> const auto &{return e.ate_m;
-}
-}
-, {"time_per_scan", "ms", false, [](const E &e) -> const auto &{return e.time_per_scan_ms;
-}
-}
-,
-}
-;
-return metrics;
+         [](const E &e) -> const Values & { return e.rpe_frame.translation_m; }},
+        {"rpe_frame_rotation", "deg", false,
+         [](const E &e) -> const Values & { return e.rpe_frame.rotation_deg; }},
+        {"rpe_second_translation", "m", true,
+         [](const E &e) -> const Values & { return e.rpe_second.translation_m; }},
+        {"rpe_second_rotation", "deg", false,
+         [](const E &e) -> const Values & { return e.rpe_second.rotation_deg; }},
+        {"ate_translation", "m", true, [](const E &e) -> const Values & { return e.ate_m; }},
+        {"time_per_scan", "ms", false,
+         [](const E &e) -> const Values & { return e.time_per_scan_ms; }},
+        {"rpe_frame_roll", "deg", false,
+         [](const E &e) -> const Values & { return e.rpe_frame.roll_deg; }},
+        {"rpe_frame_pitch", "deg", false,
+         [](const E &e) -> const Values & { return e.rpe_frame.pitch_deg; }},
+        {"rpe_frame_yaw", "deg", false,
+         [](const E &e) -> const Values & { return e.rpe_frame.yaw_deg; }},
+        {"rpe_second_roll", "deg", false,
+         [](const E &e) -> const Values & { return e.rpe_second.roll_deg; }},
+        {"rpe_second_pitch", "deg", false,
+         [](const E &e) -> const Values & { return e.rpe_second.pitch_deg; }},
+        {"rpe_second_yaw", "deg", false,
+         [](const E &e) -> const Values & { return e.rpe_second.yaw_deg; }},
+    };
+    return metrics;
 }
 
 std::vector<double> Finite(const std::vector<double> &values) {
@@ -98,6 +98,31 @@ void WriteStatisticsRow(std::ostream &os, const std::string &sequence, const std
        << ',' << s.min << ',' << s.max << ',' << s.count << '\n';
 }
 
+// Runs grouped by method, in first-seen order (the rows of a table).
+std::vector<std::pair<std::string, std::vector<const RunEvaluation *>>> ByMethod(
+    const std::vector<const RunEvaluation *> &rows) {
+    std::vector<std::pair<std::string, std::vector<const RunEvaluation *>>> groups;
+    for (const RunEvaluation *e : rows) {
+        auto it = std::find_if(groups.begin(), groups.end(),
+                               [&](const auto &g) { return g.first == e->method; });
+        if (it == groups.end()) it = groups.insert(groups.end(), {e->method, {}});
+        it->second.push_back(e);
+    }
+    return groups;
+}
+
+// Statistics of a metric over the pooled pairs of a group of runs.
+eval::Statistics PooledStatistics(const std::vector<const RunEvaluation *> &group,
+                                  const Metric &metric) {
+    std::vector<double> values;
+    for (const RunEvaluation *e : group) {
+        if (!e->ok || (metric.needs_translation && !e->has_translation)) continue;
+        const auto &v = metric.Of(*e);
+        values.insert(values.end(), v.begin(), v.end());
+    }
+    return eval::ComputeStatistics(Finite(values));
+}
+
 void WriteMarkdownTable(std::ostream &os, const std::vector<const RunEvaluation *> &rows,
                         bool pooled) {
     os << "| method | RPE/frame trans [m] | RPE/frame rot [deg] | RPE/s trans [m] | RPE/s rot "
@@ -106,23 +131,8 @@ void WriteMarkdownTable(std::ostream &os, const std::vector<const RunEvaluation 
        << (pooled ? "" : " poses scored |") << "\n";
     os << "|---|---:|---:|---:|---:|---:|---:|" << (pooled ? "" : "---:|") << "\n";
     // Rows of the same method are pooled (over sequences when `pooled`).
-    std::map<std::string, std::vector<const RunEvaluation *>> by_method;
-    std::vector<std::string> order;
-    for (const RunEvaluation *e : rows) {
-        if (by_method[e->method].empty()) order.push_back(e->method);
-        by_method[e->method].push_back(e);
-    }
-    for (const std::string &method : order) {
-        const auto &group = by_method[method];
-        const auto stat = [&](const Metric &metric) {
-            std::vector<double> values;
-            for (const RunEvaluation *e : group) {
-                if (!e->ok || (metric.needs_translation && !e->has_translation)) continue;
-                const auto &v = metric.Of(*e);
-                values.insert(values.end(), v.begin(), v.end());
-            }
-            return eval::ComputeStatistics(Finite(values));
-        };
+    for (const auto &[method, group] : ByMethod(rows)) {
+        const auto stat = [&](const Metric &metric) { return PooledStatistics(group, metric); };
         const auto &m = Metrics();
         os << "| " << method << " | " << Num(stat(m[0]).mean, 3) << " | " << Num(stat(m[1]).mean, 3)
            << " | " << Num(stat(m[2]).mean, 3) << " | " << Num(stat(m[3]).mean, 3) << " | "
@@ -134,6 +144,19 @@ void WriteMarkdownTable(std::ostream &os, const std::vector<const RunEvaluation 
                << " |";
         }
         os << "\n";
+    }
+}
+
+// Where the rotation error lives: mean |roll|, |pitch|, |yaw| of the pairs' rotation errors.
+void WriteAxisTable(std::ostream &os, const std::vector<const RunEvaluation *> &rows) {
+    os << "| method | RPE/frame roll | pitch | yaw [deg] | RPE/s roll | pitch | yaw [deg] |\n"
+       << "|---|---:|---:|---:|---:|---:|---:|\n";
+    const auto &m = Metrics();
+    for (const auto &[method, group] : ByMethod(rows)) {
+        os << "| " << method;
+        for (std::size_t k = 6; k < 12; ++k)
+            os << " | " << Num(PooledStatistics(group, m[k]).mean, 3);
+        os << " |\n";
     }
 }
 
@@ -292,7 +315,8 @@ void WriteReport(const std::vector<RunEvaluation> &evaluations, const BenchConfi
         }
     });
     io::WriteFileAtomically((out / "rpe_pairs.csv").string(), [&](std::ostream &os) {
-        os << "sequence,method,delta_unit,t_i,t_j,translation_m,rotation_deg\n"
+        os << "sequence,method,delta_unit,t_i,t_j,translation_m,rotation_deg,roll_deg,pitch_deg,"
+              "yaw_deg\n"
            << std::setprecision(9);
         for (const RunEvaluation &e : evaluations) {
             const auto write = [&](const eval::RelativeErrors &rpe, const char *unit) {
@@ -301,7 +325,8 @@ void WriteReport(const std::vector<RunEvaluation> &evaluations, const BenchConfi
                        << std::setprecision(6) << rpe.stamp_i_ns[p] * 1e-9 << ','
                        << rpe.stamp_j_ns[p] * 1e-9 << std::defaultfloat << std::setprecision(9)
                        << ',' << (e.has_translation ? rpe.translation_m[p] : std::nan("")) << ','
-                       << rpe.rotation_deg[p] << '\n';
+                       << rpe.rotation_deg[p] << ',' << rpe.roll_deg[p] << ',' << rpe.pitch_deg[p]
+                       << ',' << rpe.yaw_deg[p] << '\n';
                 }
             };
             write(e.rpe_frame, "frames");
@@ -312,7 +337,11 @@ void WriteReport(const std::vector<RunEvaluation> &evaluations, const BenchConfi
         os << "# dorado benchmark\n\n"
            << "RPE (mean over pairs) per frame (delta " << config.rpe_frame_delta << ") and per "
            << config.rpe_second_delta_s << " s, against the ground truth interpolated at each "
-           << "estimated stamp; every method of a sequence is scored on the same stamps and pairs. "
+           << "estimated stamp (reference: "
+           << (config.reference == BenchReference::kExact
+                   ? "the simulator's exact trajectory, true_trajectory.tum"
+                   : "the ground truth as recorded, ground_truth.tum for simulated sequences")
+           << "); every method of a sequence is scored on the same stamps and pairs. "
            << "ATE after SE(3) Umeyama alignment. `odom_imu` integrates the gyro only: rotation "
            << "only, as in the paper.\n\n";
         std::vector<std::string> sequences;
@@ -337,6 +366,9 @@ void WriteReport(const std::vector<RunEvaluation> &evaluations, const BenchConfi
         for (const RunEvaluation &e : evaluations) all.push_back(&e);
         os << "## all sequences (pairs pooled)\n\n";
         WriteMarkdownTable(os, all, true);
+        os << "\nRotation error by body axis (x forward = roll, y left = pitch, z up = yaw), mean "
+              "|component| of the pairs' rotation vectors, pooled:\n\n";
+        WriteAxisTable(os, all);
         os << "\nFigures: fig4_angular_velocity, fig5_rpe_per_frame, fig6_rpe_per_second, "
               "fig7_trajectories, runtime_per_stage (.png and .pdf).\n";
     });

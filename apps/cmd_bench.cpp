@@ -28,6 +28,7 @@ struct BenchOptions {
     std::string out_dir;
     std::size_t jobs = 0;
     bool no_plot = false;
+    std::string reference;  ///< empty: the config's
 };
 
 // The default config from the current directory, else from the source tree dorado was built in.
@@ -59,6 +60,7 @@ void RunBench(const BenchOptions &o) {
     const std::string config_path = FindConfig(o.config_path);
     BenchConfig config = LoadBenchConfig(config_path);
     if (o.jobs > 0) config.jobs = o.jobs;
+    if (!o.reference.empty()) config.reference = ParseBenchReference(o.reference);
     if (config.jobs == 0) config.jobs = std::max(1u, std::thread::hardware_concurrency());
     io::MakeDirectories(o.out_dir);
     const std::string out_dir = fs::canonical(o.out_dir).string();
@@ -132,6 +134,10 @@ void RegisterBenchCommand(CLI::App &app) {
     cmd->add_option("--jobs", options->jobs,
                     "parallel runs (default: the config's, else all cores)");
     cmd->add_flag("--no-plot", options->no_plot, "skip the figures");
+    cmd->add_option("--reference", options->reference,
+                    "score against the recorded ground truth (ground_truth, the default) or, for "
+                    "simulated sequences, the exact trajectory (exact)")
+        ->check(CLI::IsMember({"ground_truth", "exact"}));
     cmd->callback([options] { RunBench(*options); });
 }
 

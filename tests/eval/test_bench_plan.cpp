@@ -79,6 +79,36 @@ TEST(BenchPlan, ErrorsNameTheKey) {
               std::string::npos);
     EXPECT_NE(error_of("sequences: [{name: a, simulate: {}}]\njobs: many").find("jobs"),
               std::string::npos);
+    // Misspelled keys are errors, not silent defaults.
+    const std::string seed = error_of("sequences: [{name: a, simulate: {seedd: 3}}]");
+    EXPECT_NE(seed.find("sequences[0].simulate.seedd"), std::string::npos) << seed;
+    EXPECT_NE(seed.find("did you mean 'seed'"), std::string::npos) << seed;
+    const std::string priors = error_of("sequences: [{name: a, simulate: {}}]\nmap_prior: [none]");
+    EXPECT_NE(priors.find("did you mean 'map_priors'"), std::string::npos) << priors;
+    EXPECT_NE(error_of("sequences: [{name: a, groundtruth: g.tum, dataset: d.yaml}]")
+                  .find("sequences[0].groundtruth"),
+              std::string::npos);
+    EXPECT_NE(error_of("sequences: [{name: a, simulate: {}}]\nreference: lidar")
+                  .find("reference: must be ground_truth or exact, got 'lidar'"),
+              std::string::npos);
+}
+
+TEST(BenchPlan, ExactReferenceScoresSimulatedSequencesAgainstTheTrueTrajectory) {
+    BenchConfig config =
+        ParseBenchConfig("reference: exact\nsequences: [{name: s1, simulate: {sequence: seq04}}]\n",
+                         "/cfg", "test.yaml");
+    ASSERT_EQ(config.reference, BenchReference::kExact);
+    for (const BenchRun &run : PlanBenchmark(config, "/out"))
+        EXPECT_EQ(run.ground_truth, "/out/data/s1/true_trajectory.tum") << run.method;
+    // Recorded data has no exact trajectory: the plan says which sequence.
+    config = ParseBenchConfig(kConfig, "/cfg", "test.yaml");
+    config.reference = BenchReference::kExact;
+    try {
+        (void)PlanBenchmark(config, "/out");
+        FAIL() << "no error";
+    } catch (const std::runtime_error &e) {
+        EXPECT_NE(std::string(e.what()).find("sequence 'real'"), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace

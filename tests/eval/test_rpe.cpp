@@ -110,6 +110,34 @@ TEST(Rpe, PerFrameEqualsBruteForceWithGeneralMatrixInverse) {
     }
 }
 
+TEST(Rpe, RotationErrorIsSplitOverTheBodyAxes) {
+    // A straight reference and an estimate that wobbles about one body axis only: the error of a
+    // pair is that axis' angle change, all of it on that axis.
+    for (int axis = 0; axis < 3; ++axis) {
+        std::vector<int64_t> stamps;
+        std::vector<Eigen::Isometry3d> ref, est;
+        std::vector<double> angle;
+        for (int k = 0; k < 20; ++k) {
+            stamps.push_back(k * 100'000'000LL);
+            angle.push_back(0.02 * std::sin(0.9 * k));
+            ref.push_back(Pose(Eigen::Matrix3d::Identity(), {0.1 * k, 0, 0}));
+            est.push_back(
+                ref.back() *
+                Pose(Eigen::AngleAxisd(angle.back(), Eigen::Vector3d::Unit(axis)).matrix(),
+                     {0, 0, 0}));
+        }
+        const RelativeErrors rpe = ComputeRpe(SameStamps(stamps, ref, est), PairSelection{});
+        ASSERT_EQ(rpe.pairs.size(), 19u);
+        for (std::size_t k = 0; k < rpe.pairs.size(); ++k) {
+            const double expected = std::abs(angle[k + 1] - angle[k]) * 180.0 / kPi;
+            const double by_axis[3] = {rpe.roll_deg[k], rpe.pitch_deg[k], rpe.yaw_deg[k]};
+            for (int a = 0; a < 3; ++a)
+                EXPECT_NEAR(by_axis[a], a == axis ? expected : 0.0, 1e-9) << axis << " " << k;
+            EXPECT_NEAR(rpe.rotation_deg[k], expected, 1e-9);
+        }
+    }
+}
+
 TEST(Rpe, IdenticalTrajectoriesHaveZeroErrorEvenForTinyMotion) {
     std::vector<int64_t> stamps;
     std::vector<Eigen::Isometry3d> ref;

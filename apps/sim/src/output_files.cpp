@@ -99,6 +99,9 @@ SimulationResult SimulateToDirectory(const SequenceConfig &config, const std::st
     if (ec)
         throw std::runtime_error((dir / "data.bag").string() + ": cannot rename: " + ec.message());
     io::WriteTum((dir / "ground_truth.tum").string(), result.ground_truth);
+    // The exact poses at the same stamps: scoring against them separates an estimator's error
+    // from the reference's own (lidar-mapper-like) error.
+    io::WriteTum((dir / "true_trajectory.tum").string(), result.true_trajectory);
     WriteTrueTwists((dir / "true_twist.csv").string(), result.twists);
     const std::string yaml = io::DatasetConfigToYaml(DescribeDataset(config, result, topics));
     io::WriteFileAtomically((dir / "dataset.yaml").string(), [&](std::ostream &out) {

@@ -131,7 +131,11 @@ RelativeErrors ComputeRpe(const AssociatedPoses &poses, const std::vector<PosePa
         out.stamp_j_ns.push_back(poses.stamps_ns[pair.j]);
         out.translation_m.push_back(E.translation().norm());
         // Angle of the rotation vector (quaternion route), as evo's so3_log_angle: accurate near 0.
-        out.rotation_deg.push_back(LogSO3(E.linear()).norm() * kRadToDeg);
+        const Eigen::Vector3d rotation_vector = LogSO3(E.linear()) * kRadToDeg;
+        out.rotation_deg.push_back(rotation_vector.norm());
+        out.roll_deg.push_back(std::abs(rotation_vector.x()));
+        out.pitch_deg.push_back(std::abs(rotation_vector.y()));
+        out.yaw_deg.push_back(std::abs(rotation_vector.z()));
     }
     return out;
 }

@@ -74,7 +74,8 @@ using ProgressCallback = std::function<void(std::size_t, std::size_t)>;
                                         const BagTopics &topics = {},
                                         const ProgressCallback &progress = {});
 
-/// Writes DIR/data.bag, ground_truth.tum, true_twist.csv, dataset.yaml and simulation.json
+/// Writes DIR/data.bag, ground_truth.tum, true_trajectory.tum, true_twist.csv, dataset.yaml and
+/// simulation.json
 /// (the layout of `dorado simulate`). Returns the result.
 SimulationResult SimulateToDirectory(const SequenceConfig &config, const std::string &out_dir,
                                      const ProgressCallback &progress = {});

@@ -57,6 +57,11 @@ struct RelativeErrors {
     std::vector<int64_t> stamp_j_ns;
     std::vector<double> translation_m;  ///< |t(E_ij)|
     std::vector<double> rotation_deg;   ///< angle(R(E_ij))
+    /// |x|, |y|, |z| of the rotation vector of R(E_ij) [deg], body axes (a vehicle's base frame:
+    /// x forward = roll, y left = pitch, z up = yaw). Where the rotation error lives.
+    std::vector<double> roll_deg;
+    std::vector<double> pitch_deg;
+    std::vector<double> yaw_deg;
 };
 
 /// E_ij for one pair (exposed for tests and for callers with their own pairs).
