@@ -219,6 +219,13 @@ std::vector<RunEvaluation> EvaluateRuns(const std::vector<BenchRun> &runs,
             evaluations.push_back(std::move(e));
             continue;
         }
+        if (config.reference == BenchReference::kExact && !fs::exists(run.ground_truth)) {
+            // Data simulated before the simulator wrote its exact trajectory.
+            e.note = run.ground_truth + ": missing; delete " +
+                     fs::path(run.ground_truth).parent_path().string() + " to simulate it again";
+            evaluations.push_back(std::move(e));
+            continue;
+        }
         try {
             if (!ground_truths.count(run.ground_truth)) {
                 ground_truths[run.ground_truth] = io::ReadTum(run.ground_truth);

@@ -117,6 +117,19 @@ void RunBench(const BenchOptions &o) {
                                  " runs failed (logs in " + runner.log_dir +
                                  "); the report covers the others");
     }
+    // Runs that finished but could not be scored (no ground truth at their stamps, a missing
+    // reference file): the report lists them; the exit status says the matrix is incomplete.
+    std::size_t unscored = 0;
+    std::string first_note;
+    for (const RunEvaluation &e : evaluations) {
+        if (e.ok) continue;
+        if (unscored++ == 0) first_note = e.sequence + "/" + e.method + ": " + e.note;
+    }
+    if (unscored > 0) {
+        throw std::runtime_error(std::to_string(unscored) +
+                                 " runs could not be scored (listed in " + out_dir +
+                                 "/results.md), the first: " + first_note);
+    }
     if (!plot_error.empty()) throw std::runtime_error(plot_error);
 }
 

@@ -104,6 +104,9 @@ TEST_F(BenchReport, MethodsAreScoredOnCommonStampsAgainstClosedForm) {
             const double dt = (e.rpe_frame.stamp_j_ns[p] - e.rpe_frame.stamp_i_ns[p]) * 1e-9;
             EXPECT_NEAR(e.rpe_frame.translation_m[p], ClosedFormTranslation(dt), 1e-6);
             EXPECT_NEAR(e.rpe_frame.rotation_deg[p], kW * dt * 180 / M_PI, 1e-5);
+            // A turn in the plane against a straight line: all of the error is yaw.
+            EXPECT_NEAR(e.rpe_frame.yaw_deg[p], e.rpe_frame.rotation_deg[p], 1e-9);
+            EXPECT_LT(e.rpe_frame.roll_deg[p] + e.rpe_frame.pitch_deg[p], 1e-9);
         }
         // Per second: pairs 1 s apart within the 10 % tolerance (the last one, at the end of the
         // data, is 0.9 s), each scored on its own duration.
@@ -137,6 +140,7 @@ TEST_F(BenchReport, MethodsAreScoredOnCommonStampsAgainstClosedForm) {
     const std::string report((std::istreambuf_iterator<char>(md)),
                              std::istreambuf_iterator<char>());
     EXPECT_NE(report.find("map_none: run failed: exit code 1"), std::string::npos) << report;
+    EXPECT_NE(report.find("| method | RPE/frame roll | pitch | yaw [deg] |"), std::string::npos);
 
     // The figures, from the CSVs just written.
     const std::string plot = std::string(DORADO_SYSTEM_PYTHON) + " " + DORADO_SOURCE_DIR +
@@ -147,6 +151,23 @@ TEST_F(BenchReport, MethodsAreScoredOnCommonStampsAgainstClosedForm) {
         EXPECT_TRUE(fs::exists(out_ / "plots" / (std::string(name) + ".png"))) << name;
         EXPECT_TRUE(fs::exists(out_ / "plots" / (std::string(name) + ".pdf"))) << name;
     }
+}
+
+TEST_F(BenchReport, ExactReferenceMissingFromOlderSimulationIsNamed) {
+    BenchRun run = Run(RunKind::kOdometry, "odom_doppler");
+    run.ground_truth = (out_ / "data" / "s1" / "true_trajectory.tum").string();
+    WriteArcRun(run, -1, "velocities.csv", "t,time_ms\n0.05,1\n");
+    std::vector<JobOutcome> outcomes(1);
+    outcomes[0].status = JobStatus::kAlreadyDone;
+    BenchConfig config;
+    config.reference = BenchReference::kExact;
+    const auto evaluations = EvaluateRuns({run}, outcomes, config);
+    ASSERT_EQ(evaluations.size(), 1u);
+    EXPECT_FALSE(evaluations[0].ok);
+    EXPECT_NE(evaluations[0].note.find("true_trajectory.tum: missing; delete " +
+                                       (out_ / "data" / "s1").string()),
+              std::string::npos)
+        << evaluations[0].note;
 }
 
 }  // namespace
