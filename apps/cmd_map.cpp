@@ -44,16 +44,19 @@ std::string Quoted(const std::string &text) {
     return out + "\"";
 }
 
-// The Doppler twist with its covariance: the estimator's (eq. 7) plus, when the kinematic model
-// gives the rotation, the model's own error (a vehicle that slips, bounces and rolls). The
-// cross-covariance between v and omega is dropped (the prior is block-diagonal).
-mapping::BaseTwist TwistOf(const odometry::VehicleMotion &m, bool with_model_error) {
-    mapping::BaseTwist twist{m.v_base_mps, m.omega_base_radps, m.cov_v_base, m.cov_omega_base};
-    if (with_model_error) {
-        twist.cov_v_base += m.cov_model.topLeftCorner<3, 3>();
-        twist.cov_omega_base += m.cov_model.bottomRightCorner<3, 3>();
-    }
-    return twist;
+// The `doppler` prior's twist: the kinematic model's, with the estimator's covariance (eq. 7), the
+// model's own error (a vehicle that slips, bounces and rolls) and the vehicle's angular-rate prior
+// (KinematicModel::PlausibleTwist). The cross-covariance between v and omega is dropped (the
+// prior is block-diagonal).
+mapping::BaseTwist TwistOf(const odometry::VehicleTwist &t) {
+    return {t.v_base_mps, t.omega_base_radps, t.covariance.topLeftCorner<3, 3>(),
+            t.covariance.bottomRightCorner<3, 3>()};
+}
+
+// The `imu+doppler` prior's velocity: the gyro gives omega and v_base = v_s - omega x s, without
+// the model's error; its covariance is the estimator's (eq. 7).
+mapping::BaseTwist TwistOf(const odometry::VehicleMotion &m) {
+    return {m.v_base_mps, m.omega_base_radps, m.cov_v_base, m.cov_omega_base};
 }
 
 void WritePcd(const std::string &path, const Eigen::Matrix3Xd &points) {
@@ -182,11 +185,11 @@ void RunMap(const MapOptions &opt) {
                 const odometry::VehicleMotion motion =
                     kinematics->Motion(ego.v_radar_mps, ego.cov_v_radar);
                 if (opt.prior == "doppler")
-                    built =
-                        mapping::PriorFromDoppler(T_last, TwistOf(motion, true), dt, config.prior);
+                    built = mapping::PriorFromDoppler(
+                        T_last, TwistOf(kinematics->PlausibleTwist(motion)), dt, config.prior);
                 if (opt.prior == "imu+doppler") {
                     // The gyro gives omega and v_base = v_s - omega x s: no model error.
-                    mapping::BaseTwist twist = TwistOf(motion, false);
+                    mapping::BaseTwist twist = TwistOf(motion);
                     const Eigen::Vector3d gyro_base =
                         dataset.extrinsics.T_base_imu.linear() *
                         MeanAngularVelocity(imu, last_stamp + 1, scan.stamp_ns);

@@ -39,6 +39,7 @@ VehicleMotion KinematicModel::Motion(const Eigen::Vector3d &v_radar,
     // eq. (7): C_omega = J C_v J^T (exact: the model is linear in v).
     motion.cov_omega_base = J_omega_ * cov_v_radar * J_omega_.transpose();
     motion.cov_v_base = J_v_base_ * cov_v_radar * J_v_base_.transpose();
+    motion.cov_v_omega_base = J_v_base_ * cov_v_radar * J_omega_.transpose();
     motion.cov_model = ModelCovariance(motion.v_base_mps, motion.omega_base_radps);
     return motion;
 }
@@ -74,6 +75,31 @@ Eigen::Matrix<double, 6, 6> KinematicModel::ModelCovariance(
         n.sigma_roll_rate_radps * n.sigma_roll_rate_radps);
     const Eigen::Matrix<double, 6, 3> G = ViolationJacobian();
     return G * variance.asDiagonal() * G.transpose();
+}
+
+VehicleTwist KinematicModel::PlausibleTwist(const VehicleMotion &motion) const {
+    using Matrix6d = Eigen::Matrix<double, 6, 6>;
+    Matrix6d covariance = motion.cov_model;
+    covariance.topLeftCorner<3, 3>() += motion.cov_v_base;
+    covariance.topRightCorner<3, 3>() += motion.cov_v_omega_base;
+    covariance.bottomLeftCorner<3, 3>() += motion.cov_v_omega_base.transpose();
+    covariance.bottomRightCorner<3, 3>() += motion.cov_omega_base;
+    Eigen::Matrix<double, 6, 1> x;
+    x << motion.v_base_mps, motion.omega_base_radps;
+    // The pseudo-measurement omega = 0 with covariance P: H = [0 I], S = H C H^T + P,
+    // K = C H^T S^-1, x+ = x - K (H x), C+ = C - K H C.
+    const Eigen::Matrix3d P =
+        model_noise_.angular_rate_prior_sigma_radps.cwiseAbs2().asDiagonal().toDenseMatrix();
+    const Eigen::Matrix3d S = covariance.bottomRightCorner<3, 3>() + P;
+    const Eigen::Matrix<double, 6, 3> K =
+        S.ldlt().solve(covariance.rightCols<3>().transpose()).transpose();
+    x -= K * motion.omega_base_radps;
+    covariance -= K * covariance.bottomRows<3>();
+    VehicleTwist twist;
+    twist.v_base_mps = x.head<3>();
+    twist.omega_base_radps = x.tail<3>();
+    twist.covariance = 0.5 * (covariance + covariance.transpose());
+    return twist;
 }
 
 Eigen::Vector3d KinematicModel::SensorVelocityInBase(const Eigen::Vector3d &v_radar) const {

@@ -82,6 +82,10 @@ TEST_F(DatasetConfigTest, OutOfRangeAndWrongTypesNameTheKey) {
                 "vehicle.model_noise.sigma_vertical_mps': must be a number >= 0");
     ExpectError("rosbag: {path: x.bag}\nvehicle: {model_noise: {sigma_roll_rate: 0.1}}\n",
                 "vehicle.model_noise.sigma_roll_rate': unknown key");
+    ExpectError(
+        "rosbag: {path: x.bag}\nvehicle: {model_noise: {angular_rate_prior_sigma_radps: [1, 0, "
+        "1]}}\n",
+        "vehicle.model_noise.angular_rate_prior_sigma_radps': must be 3 numbers > 0");
     ExpectError("rosbag: {path: x.bag}\nfields: {doppler_sign: 2}\n",
                 "fields.doppler_sign': must be 1 or -1");
     ExpectError("reader: lidar\n", "'reader': must be rosbag or folder");
@@ -103,7 +107,7 @@ TEST_F(DatasetConfigTest, YamlRoundTrip) {
         Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
     config.extrinsics.T_base_radar.translation() << 0.7, 0.01, 0.45;
     config.vehicle.half_wheelbase_m = 0.3;
-    config.vehicle.model_noise = {0.25, 0.001, 0.03, 0.07, 0.11};
+    config.vehicle.model_noise = {0.25, 0.001, 0.03, 0.07, 0.11, {0.3, 0.2, 2.5}};
     config.ground_truth.path = (dir_ / "gt.tum").string();
     const DatasetConfig back = LoadDatasetConfig(WriteYaml(DatasetConfigToYaml(config)));
     EXPECT_EQ(back.name, "sim");
@@ -119,6 +123,8 @@ TEST_F(DatasetConfigTest, YamlRoundTrip) {
     EXPECT_EQ(back.vehicle.model_noise.sigma_lateral_mps, 0.03);
     EXPECT_EQ(back.vehicle.model_noise.sigma_vertical_mps, 0.07);
     EXPECT_EQ(back.vehicle.model_noise.sigma_roll_rate_radps, 0.11);
+    EXPECT_EQ(back.vehicle.model_noise.angular_rate_prior_sigma_radps,
+              Eigen::Vector3d(0.3, 0.2, 2.5));
     EXPECT_EQ(back.ground_truth.path, config.ground_truth.path);
 }
 

@@ -112,7 +112,7 @@ TEST(KinematicModel, RejectsUnobservableMountings) {
 TEST(KinematicModel, ModelCovarianceMatchesMonteCarloOfAVehicleBreakingTheConstraints) {
     const Extrinsics e = MakeExtrinsics();
     VehicleGeometry g{0.3, KinematicModelNoise{}};
-    g.model_noise = {0.1, 0.005, 0.02, 0.05, 0.05};
+    g.model_noise = {0.1, 0.005, 0.02, 0.05, 0.05, {0.5, 0.5, 1.5}};
     const KinematicModel model(e, g);
     const double speed = 6.0, pitch_rate = 0.05, yaw_rate = 0.4, m = g.half_wheelbase_m;
     const Eigen::Vector3d s = e.T_base_radar.translation();
@@ -177,6 +177,78 @@ TEST(KinematicModel, ModelErrorGrowsWithYawRateAndSpeedAndVanishesWithoutNoise) 
     EXPECT_GT(fast_turn, 4.0 * slow_turn);
     g.model_noise = {0.0, 0.0, 0.0, 0.0, 0.0};
     EXPECT_EQ(yaw_variance(10.0, 0.5), 0.0);
+}
+
+// A radar 4.4 cm behind the Y-ICR axis (a side mount near mid-wheelbase): eq. (5) divides the
+// vertical velocity by m - s_x, so its pitch rate is noise. With the vehicle's rates drawn from the
+// angular-rate prior (a linear-Gaussian world), the plausible twist's error must have exactly the
+// covariance it reports, and be far smaller than eq. (5)'s.
+TEST(KinematicModel, PlausibleTwistCovarianceMatchesMonteCarloNearTheYIcrAxis) {
+    Extrinsics e;
+    e.T_base_radar.linear() = (Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitZ()) *
+                               Eigen::AngleAxisd(0.09, Eigen::Vector3d::UnitY()))
+                                  .toRotationMatrix();
+    e.T_base_radar.translation() = Eigen::Vector3d(0.30, -0.28, 0.50);
+    VehicleGeometry g{0.256, KinematicModelNoise{}};
+    g.model_noise = {0.0, 0.0, 0.0, 0.0, 0.0, {0.5, 0.4, 1.2}};
+    const KinematicModel model(e, g);
+    const Eigen::Matrix3d cov_v_radar = Eigen::Vector3d(1e-4, 4e-4, 9e-4).asDiagonal();
+    const Eigen::Matrix3d L = cov_v_radar.llt().matrixL();
+    std::mt19937 rng(7);
+    std::normal_distribution<double> gauss;
+    const int trials = 100000;
+    Eigen::Matrix<double, 6, 6> scatter = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 6> reported = Eigen::Matrix<double, 6, 6>::Zero();
+    double raw_pitch_sq = 0.0;
+    for (int k = 0; k < trials; ++k) {
+        const double pitch_rate = 0.4 * gauss(rng), yaw_rate = 1.2 * gauss(rng);
+        Eigen::Vector3d v_base, omega;
+        const Eigen::Vector3d v_radar =
+            RadarVelocity(e, g, 1.0 + gauss(rng), pitch_rate, yaw_rate, &v_base, &omega) +
+            L * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+        const VehicleMotion motion = model.Motion(v_radar, cov_v_radar);
+        const VehicleTwist twist = model.PlausibleTwist(motion);
+        Eigen::Matrix<double, 6, 1> err;
+        err << twist.v_base_mps - v_base, twist.omega_base_radps - omega;
+        scatter += err * err.transpose();
+        reported = twist.covariance;  // the same for every draw (fixed noise, no model error)
+        raw_pitch_sq += std::pow(motion.omega_base_radps.y() - pitch_rate, 2);
+    }
+    const Eigen::Matrix<double, 6, 6> sample = scatter / trials;
+    for (int i = 0; i < 6; ++i) {
+        for (int j = 0; j < 6; ++j) {
+            const double scale = std::sqrt(reported(i, i) * reported(j, j));
+            if (scale == 0.0) continue;  // roll: not estimated, not drawn
+            EXPECT_LT(std::abs(sample(i, j) - reported(i, j)), 0.03 * scale)
+                << "(" << i << "," << j << ") sample " << sample(i, j) << " reported "
+                << reported(i, j);
+        }
+    }
+    // eq. (5)'s pitch rate error is ~0.7 rad/s here; the plausible one is below the prior's 0.4.
+    EXPECT_GT(std::sqrt(raw_pitch_sq / trials), 0.5);
+    EXPECT_LT(std::sqrt(sample(4, 4)), 0.4);
+}
+
+// Where eq. (5) is well conditioned the prior barely moves the estimate.
+TEST(KinematicModel, PlausibleTwistKeepsAWellObservedTwist) {
+    const Extrinsics e = MakeExtrinsics();
+    const VehicleGeometry g{0.256, KinematicModelNoise{}};
+    const KinematicModel model(e, g);
+    Eigen::Vector3d v_base, omega;
+    const VehicleMotion motion = model.Motion(RadarVelocity(e, g, 5.0, 0.1, 0.4, &v_base, &omega),
+                                              Eigen::Vector3d(1e-4, 1e-4, 4e-4).asDiagonal());
+    const VehicleTwist twist = model.PlausibleTwist(motion);
+    for (int i = 1; i < 3; ++i)
+        EXPECT_NEAR(twist.omega_base_radps[i], omega[i], 0.05 * std::abs(omega[i])) << i;
+    EXPECT_LT((twist.v_base_mps - v_base).norm(), 0.01);
+    // Never more uncertain than before the prior.
+    for (int i = 0; i < 6; ++i) {
+        const double before =
+            i < 3 ? (motion.cov_v_base + motion.cov_model.topLeftCorner<3, 3>())(i, i)
+                  : (motion.cov_omega_base + motion.cov_model.bottomRightCorner<3, 3>())(i - 3,
+                                                                                         i - 3);
+        EXPECT_LE(twist.covariance(i, i), before + 1e-15) << i;
+    }
 }
 
 }  // namespace

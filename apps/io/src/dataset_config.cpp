@@ -96,6 +96,11 @@ KinematicModelNoise ReadModelNoise(YamlSection section) {
     read("sigma_lateral_mps", noise.sigma_lateral_mps);
     read("sigma_vertical_mps", noise.sigma_vertical_mps);
     read("sigma_roll_rate_radps", noise.sigma_roll_rate_radps);
+    // A prior's spread: > 0 (a large value is no prior).
+    section.ReadVector3("angular_rate_prior_sigma_radps", noise.angular_rate_prior_sigma_radps);
+    if (!(noise.angular_rate_prior_sigma_radps.allFinite() &&
+          noise.angular_rate_prior_sigma_radps.minCoeff() > 0.0))
+        section.Fail("angular_rate_prior_sigma_radps", "must be 3 numbers > 0");
     section.RejectUnknownKeys();
     return noise;
 }
@@ -275,6 +280,9 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
     out << YAML::Key << "sigma_lateral_mps" << YAML::Value << noise.sigma_lateral_mps;
     out << YAML::Key << "sigma_vertical_mps" << YAML::Value << noise.sigma_vertical_mps;
     out << YAML::Key << "sigma_roll_rate_radps" << YAML::Value << noise.sigma_roll_rate_radps;
+    const Eigen::Vector3d &rate = noise.angular_rate_prior_sigma_radps;
+    out << YAML::Key << "angular_rate_prior_sigma_radps" << YAML::Value << YAML::Flow
+        << std::vector<double>{rate.x(), rate.y(), rate.z()};
     out << YAML::EndMap;
     out << YAML::EndMap;
     out << YAML::EndMap;

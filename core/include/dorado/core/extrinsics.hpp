@@ -33,6 +33,11 @@ struct KinematicModelNoise {
     double sigma_vertical_mps = 0.05;
     /// The roll rate the model sets to zero [rad/s].
     double sigma_roll_rate_radps = 0.05;
+    /// Spread of the vehicle's angular rates about zero (roll, pitch, yaw) [rad/s], 1 sigma: a
+    /// prior, not a violation. It matters only where eq. (5) is ill-conditioned (a radar close to
+    /// the Y-ICR or Z-ICR axis, e.g. a side mount near mid-wheelbase, gives pitch rates of tens of
+    /// deg/s of noise); KinematicModel::PlausibleTwist combines it with the estimate.
+    Eigen::Vector3d angular_rate_prior_sigma_radps{0.5, 0.5, 1.5};
 };
 
 struct VehicleGeometry {

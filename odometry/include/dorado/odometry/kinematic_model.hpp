@@ -15,10 +15,20 @@ struct VehicleMotion {
     Eigen::Vector3d omega_base_radps = Eigen::Vector3d::Zero();
     Eigen::Matrix3d cov_v_base = Eigen::Matrix3d::Zero();
     Eigen::Matrix3d cov_omega_base = Eigen::Matrix3d::Zero();
+    /// Cross-covariance of v_base and omega_base (eq. 7's propagation: both come from v_radar).
+    Eigen::Matrix3d cov_v_omega_base = Eigen::Matrix3d::Zero();
     /// Covariance of the model's own error (the vehicle breaking the constraints, see
     /// KinematicModelNoise), of [v_base; omega_base]: add it to the blocks above for an honest
     /// total. Zero when the geometry's model_noise is zero.
     Eigen::Matrix<double, 6, 6> cov_model = Eigen::Matrix<double, 6, 6>::Zero();
+};
+
+/// The vehicle's twist with everything known about it, and the joint covariance of
+/// [v_base; omega_base].
+struct VehicleTwist {
+    Eigen::Vector3d v_base_mps = Eigen::Vector3d::Zero();
+    Eigen::Vector3d omega_base_radps = Eigen::Vector3d::Zero();
+    Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
 };
 
 /// The paper's kinematic constraints, in the base frame (X forward, Y left, Z up, origin at the
@@ -50,6 +60,14 @@ class KinematicModel {
     /// model's own error goes to VehicleMotion::cov_model.
     [[nodiscard]] VehicleMotion Motion(const Eigen::Vector3d &v_radar,
                                        const Eigen::Matrix3d &cov_v_radar) const;
+
+    /// The twist to use as a motion prior: eq. (5)'s estimate with the total covariance (eq. 7 +
+    /// the model's own error), updated (Kalman, on [v_base; omega]) with the prior that the
+    /// angular rates are about zero with KinematicModelNoise::angular_rate_prior_sigma_radps. Where
+    /// eq. (5) is well conditioned this moves a rate by a few percent of itself at most; where it
+    /// is not (a radar near an ICR axis) it keeps the poorly observed rate, and the base velocity
+    /// that depends on it through the lever arm, from taking absurd values.
+    [[nodiscard]] VehicleTwist PlausibleTwist(const VehicleMotion &motion) const;
 
     /// d omega_base / d v_radar (constant: the model is linear in v_radar).
     [[nodiscard]] const Eigen::Matrix3d &OmegaJacobian() const { return J_omega_; }
