@@ -57,7 +57,7 @@ void RegisterSimulateCommand(CLI::App &app) {
                                    "Simulate a radar dataset (Hugin-like 4D radar, IMU, lidar-rate "
                                    "ground truth) from a sequence "
                                    "description: a built-in name (seq04 seq05 seq06 seq07 seq08 "
-                                   "seq11 car_urban) or a YAML file");
+                                   "seq11 car_urban side_mount) or a YAML file");
     auto options = std::make_shared<SimulateOptions>();
     cmd->add_option("--sequence", options->sequence,
                     "built-in sequence name or a sequence YAML file")

@@ -79,6 +79,7 @@ odometry::DopplerOdometryConfig LoadOdometryConfig(const std::string &yaml_path)
     }
     odo.Read("zero_velocity_update", config.zero_velocity_update);
     odo.Read("max_angular_rate_radps", config.max_angular_rate_radps);
+    odo.Read("angular_rate_prior", config.angular_rate_prior);
     odo.RejectUnknownKeys();
     top.RejectUnknownKeys();
     try {

@@ -86,12 +86,18 @@ void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, Odomet
         step.fallback_reason = "no IMU samples in the interval: rotation from the Doppler model";
         step.used_fallback = true;
     }
-    if (step.motion.omega_base_radps.norm() > config_.max_angular_rate_radps) {
-        return fallback("angular rate " + std::to_string(step.motion.omega_base_radps.norm()) +
+    Eigen::Vector3d v_base = step.motion.v_base_mps, omega_base = step.motion.omega_base_radps;
+    if (config_.angular_rate_prior) {
+        const VehicleTwist plausible = model_.PlausibleTwist(step.motion);
+        v_base = plausible.v_base_mps;
+        omega_base = plausible.omega_base_radps;
+    }
+    if (omega_base.norm() > config_.max_angular_rate_radps) {
+        return fallback("angular rate " + std::to_string(omega_base.norm()) +
                         " rad/s above max_angular_rate_radps");
     }
     const std::string note = step.fallback_reason;
-    accept(step.motion.v_base_mps, step.motion.omega_base_radps);
+    accept(v_base, omega_base);
     step.fallback_reason = note;
 }
 

@@ -217,7 +217,8 @@ TEST_F(SimulatedDataset, PythonRosbagReadsTheBag) {
 }
 
 TEST(SequenceConfig, BuiltInSequencesLoadAndBadKeysAreNamed) {
-    for (const char *name : {"seq04", "seq05", "seq06", "seq07", "seq08", "seq11", "car_urban"}) {
+    for (const char *name :
+         {"seq04", "seq05", "seq06", "seq07", "seq08", "seq11", "car_urban", "side_mount"}) {
         EXPECT_NO_THROW((void)LoadSequenceConfig(FindSequenceFile(name))) << name;
     }
     const fs::path bad = fs::temp_directory_path() / "dorado_bad_sequence.yaml";

@@ -29,6 +29,10 @@ struct DopplerOdometryConfig {
     bool zero_velocity_update = true;
     /// A Doppler-derived |omega| above this is treated like an invalid scan (fallback) [rad/s].
     double max_angular_rate_radps = 2.0;
+    /// Integrate KinematicModel::PlausibleTwist (eq. 5 combined with the vehicle's angular-rate
+    /// prior) instead of eq. (5)'s twist as is. They agree to a few percent where eq. (5) is well
+    /// conditioned; near an ICR axis (a side mount) the raw pitch or yaw rate is noise.
+    bool angular_rate_prior = true;
 
     /// Throws std::invalid_argument naming the first bad field.
     void Validate() const;
@@ -41,7 +45,7 @@ struct OdometryStep {
     bool integrated = false;  ///< false for a scan skipped for its stamp
     std::string skip_reason;
     EgoVelocityResult ego;
-    VehicleMotion motion;  ///< from the kinematic model (meaningful when ego.valid)
+    VehicleMotion motion;  ///< from the kinematic model, eq. (5) and (7) (when ego.valid)
     Eigen::Vector3d v_base_used_mps = Eigen::Vector3d::Zero();  ///< the twist integrated
     Eigen::Vector3d omega_base_used_radps = Eigen::Vector3d::Zero();
     bool used_fallback = false;
