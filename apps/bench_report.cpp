@@ -220,9 +220,12 @@ std::vector<RunEvaluation> EvaluateRuns(const std::vector<BenchRun> &runs,
             continue;
         }
         if (config.reference == BenchReference::kExact && !fs::exists(run.ground_truth)) {
-            // Data simulated before the simulator wrote its exact trajectory.
+            // Data simulated before the simulator wrote its exact trajectory: the sequence's runs
+            // were made on that data, so they go too.
             e.note = run.ground_truth + ": missing; delete " +
-                     fs::path(run.ground_truth).parent_path().string() + " to simulate it again";
+                     fs::path(run.ground_truth).parent_path().string() + " and " +
+                     fs::path(run.job.out_dir).parent_path().string() +
+                     " to simulate and run it again";
             evaluations.push_back(std::move(e));
             continue;
         }

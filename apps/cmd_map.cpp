@@ -255,9 +255,7 @@ void RunMap(const MapOptions &opt) {
                   imu.end());
     }
     progress.Finish();
-    if (registered == 0)
-        throw io::DatasetError(reader->source() + ": no usable radar scan" +
-                               (guard.stopped().empty() ? "" : " before: " + guard.stopped()));
+    guard.ThrowIfNoScanUsed(registered, reader->source());
 
     io::WriteTum(opt.out + "/trajectory.tum", trajectory);
     const Eigen::Matrix3Xd map_points = output_map.Points();

@@ -197,9 +197,7 @@ void RunOdometry(const OdometryOptions &opt) {
         }
     }
     progress.Finish();
-    if (used == 0)
-        throw io::DatasetError(reader->source() + ": no usable radar scan" +
-                               (guard.stopped().empty() ? "" : " before: " + guard.stopped()));
+    guard.ThrowIfNoScanUsed(used, reader->source());
 
     io::WriteTum(opt.out + "/trajectory.tum", odometry.trajectory());
     io::WriteFileAtomically(opt.out + "/velocities.csv", [&](std::ostream &os) { os << csv; });

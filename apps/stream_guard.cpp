@@ -51,6 +51,12 @@ bool StreamGuard::Next(io::DatasetReader &reader, io::DatasetEvent &event) {
     }
 }
 
+void StreamGuard::ThrowIfNoScanUsed(std::size_t scans_used, const std::string &source) const {
+    if (scans_used > 0) return;
+    throw io::DatasetError(source + ": no usable radar scan" +
+                           (reason_.empty() ? "" : " before: " + reason_));
+}
+
 void StreamGuard::ThrowIfStopped(const std::string &command, std::size_t scans,
                                  const std::string &out_dir) const {
     if (reason_.empty()) return;

@@ -30,6 +30,10 @@ class StreamGuard {
     /// The exit code for an early end: 130 after a signal (as a shell reports SIGINT), 1 otherwise.
     [[nodiscard]] int exit_code() const { return signalled_ ? 130 : 1; }
 
+    /// Throws io::DatasetError "SOURCE: no usable radar scan" (with the reason the stream ended
+    /// early, if it did) when `scans_used` is 0: there are no results to write.
+    void ThrowIfNoScanUsed(std::size_t scans_used, const std::string &source) const;
+
     /// Throws after the results were written, when the stream ended early: the message names the
     /// reason and where the results of the scans before it are.
     void ThrowIfStopped(const std::string &command, std::size_t scans,

@@ -207,12 +207,16 @@ DatasetConfig ResolveDataset(const std::string &argument) {
 
 namespace {
 
+// `key: [x, y, z]`, the form ReadVector3 reads back.
+void EmitVector3(YAML::Emitter &out, const char *key, const Eigen::Vector3d &v) {
+    out << YAML::Key << key << YAML::Value << YAML::Flow
+        << std::vector<double>{v.x(), v.y(), v.z()};
+}
+
 void EmitTransform(YAML::Emitter &out, const char *name, const Eigen::Isometry3d &T) {
     const Eigen::Quaterniond q(T.linear());
-    const Eigen::Vector3d t = T.translation();
     out << YAML::Key << name << YAML::Value << YAML::BeginMap;
-    out << YAML::Key << "translation_m" << YAML::Value << YAML::Flow
-        << std::vector<double>{t.x(), t.y(), t.z()};
+    EmitVector3(out, "translation_m", T.translation());
     out << YAML::Key << "quaternion_xyzw" << YAML::Value << YAML::Flow
         << std::vector<double>{q.x(), q.y(), q.z(), q.w()};
     out << YAML::EndMap;
@@ -280,9 +284,7 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
     out << YAML::Key << "sigma_lateral_mps" << YAML::Value << noise.sigma_lateral_mps;
     out << YAML::Key << "sigma_vertical_mps" << YAML::Value << noise.sigma_vertical_mps;
     out << YAML::Key << "sigma_roll_rate_radps" << YAML::Value << noise.sigma_roll_rate_radps;
-    const Eigen::Vector3d &rate = noise.angular_rate_prior_sigma_radps;
-    out << YAML::Key << "angular_rate_prior_sigma_radps" << YAML::Value << YAML::Flow
-        << std::vector<double>{rate.x(), rate.y(), rate.z()};
+    EmitVector3(out, "angular_rate_prior_sigma_radps", noise.angular_rate_prior_sigma_radps);
     out << YAML::EndMap;
     out << YAML::EndMap;
     out << YAML::EndMap;
