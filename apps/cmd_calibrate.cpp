@@ -6,12 +6,13 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "dorado/core/lie.hpp"
 #include "dorado/core/time.hpp"
 #include "dorado/io/atomic_file.hpp"
 #include "dorado/io/dataset.hpp"
 #include "dorado/odometry/calibration.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
-#include "odometry_config.hpp"
+#include "dorado/config/odometry_config.hpp"
 #include "progress.hpp"
 
 namespace dorado::apps {
@@ -32,19 +33,19 @@ struct Samples {
 
 Samples Collect(const CalibrateOptions &opt, const io::DatasetConfig &dataset) {
     odometry::EgoVelocityConfig ego;
-    if (!opt.config.empty()) ego = LoadOdometryConfig(opt.config).ego_velocity;
+    if (!opt.config.empty()) ego = dorado::config::LoadOdometryConfig(opt.config).ego_velocity;
     odometry::EgoVelocityEstimator estimator(ego);
     auto reader = io::OpenDataset(dataset);
     Progress progress("calibrate " + opt.step, 0);
     const Eigen::Matrix3d R_base_imu = dataset.extrinsics.T_base_imu.linear();
-    std::vector<ImuSample> imu;
+    ImuWindow imu;
     Samples out;
     bool has_first = false, has_last = false;
     int64_t first_ns = 0, last_ns = 0;
     io::DatasetEvent event;
     while (reader->Next(event)) {
         if (event.kind == io::DatasetEvent::Kind::kImu) {
-            imu.push_back(event.imu);
+            imu.Add(event.imu);
             ++out.imu_samples;
         }
         if (event.kind != io::DatasetEvent::Kind::kRadarScan) continue;
@@ -52,10 +53,9 @@ Samples Collect(const CalibrateOptions &opt, const io::DatasetConfig &dataset) {
         progress.Update(++out.scans);
         const double t = NanosToSeconds(event.stamp_ns - first_ns);
         const Eigen::Vector3d gyro =
-            has_last ? Eigen::Vector3d(R_base_imu *
-                                       MeanAngularVelocity(imu, last_ns + 1, event.stamp_ns))
+            has_last ? Eigen::Vector3d(R_base_imu * imu.MeanGyro(last_ns, event.stamp_ns))
                      : Eigen::Vector3d::Constant(NAN);
-        imu.clear();
+        imu.DropUpTo(event.stamp_ns);
         has_last = true;
         last_ns = event.stamp_ns;
         if ((opt.from_s >= 0 && t < opt.from_s) || (opt.to_s >= 0 && t > opt.to_s)) continue;
@@ -81,10 +81,10 @@ std::string Vec(const Eigen::Vector3d &v) {
 // The snippet the dataset description accepts (rotation as roll, pitch, yaw with
 // R = Rz(yaw) Ry(pitch) Rx(roll)).
 void WriteSnippet(const std::string &path, const std::string &comment, const Eigen::Isometry3d &T) {
-    const Eigen::Vector3d ypr = T.linear().eulerAngles(2, 1, 0) * 180.0 / M_PI;
+    const Eigen::Vector3d rpy = RollPitchYaw(T.linear()) * 180.0 / M_PI;
     io::WriteFileAtomically(path, [&](std::ostream &os) {
         os << comment << "extrinsics:\n  T_base_radar:\n    translation_m: " << Vec(T.translation())
-           << "\n    rotation_rpy_deg: " << Vec(Eigen::Vector3d(ypr[2], ypr[1], ypr[0])) << "\n";
+           << "\n    rotation_rpy_deg: " << Vec(rpy) << "\n";
     });
 }
 

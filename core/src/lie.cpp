@@ -85,4 +85,16 @@ double RotationAngle(const Eigen::Matrix3d &R) {
     return std::acos(c);
 }
 
+Eigen::Matrix3d RotationFromRollPitchYaw(const Eigen::Vector3d &rpy_rad) {
+    return (Eigen::AngleAxisd(rpy_rad.z(), Eigen::Vector3d::UnitZ()) *
+            Eigen::AngleAxisd(rpy_rad.y(), Eigen::Vector3d::UnitY()) *
+            Eigen::AngleAxisd(rpy_rad.x(), Eigen::Vector3d::UnitX()))
+        .toRotationMatrix();
+}
+
+Eigen::Vector3d RollPitchYaw(const Eigen::Matrix3d &R) {
+    return {std::atan2(R(2, 1), R(2, 2)), -std::asin(std::clamp(R(2, 0), -1.0, 1.0)),
+            std::atan2(R(1, 0), R(0, 0))};
+}
+
 }  // namespace dorado

@@ -7,6 +7,26 @@
 
 namespace dorado::mapping {
 
+const char *ToString(PriorKind kind) {
+    switch (kind) {
+        case PriorKind::kNone: return "none";
+        case PriorKind::kConstVel: return "constvel";
+        case PriorKind::kImu: return "imu";
+        case PriorKind::kDoppler: return "doppler";
+        case PriorKind::kImuDoppler: return "imu+doppler";
+    }
+    return "?";
+}
+
+PriorKind ParsePriorKind(const std::string &name) {
+    for (PriorKind kind : kAllPriorKinds) {
+        if (name == ToString(kind)) return kind;
+    }
+    throw std::invalid_argument("'" + name +
+                                "' is not one of: none, constvel, imu, doppler, imu+doppler");
+}
+
+
 namespace {
 
 Matrix6d BlockDiagonal(const Eigen::Matrix3d &cov_translation,

@@ -120,6 +120,13 @@ struct RadarMapper::State {
         return delta.translation().norm() >= config.keyframe_distance_m ||
                RotationAngle(delta.linear()) * 180.0 / M_PI >= config.keyframe_angle_deg;
     }
+
+    void RegisterToMap(const Eigen::Matrix3Xd &source_base,
+                       const std::vector<DopplerObservation> &doppler, const MotionPrior &prior,
+                       double dt_s, RegistrationResult &result);
+    void Refine(const Eigen::Matrix3Xd &source_base,
+                const std::vector<DopplerObservation> &doppler_all, const MotionPrior &prior,
+                double dt_s, Association association, RegistrationResult &result) const;
 };
 
 RadarMapper::RadarMapper(const MapperConfig &config, const Extrinsics &extrinsics) {
@@ -138,6 +145,100 @@ const MapperConfig &RadarMapper::config() const {
 }
 int RadarMapper::fallbacks() const {
     return state_->fallbacks;
+}
+
+namespace {
+
+// The jump test's prior: the prior's uncertainty plus the registration's own noise.
+MotionPrior WidenedPrior(const MotionPrior &prior, const MapperConfig &config) {
+    MotionPrior widened = prior;
+    widened.covariance.diagonal() +=
+        (Vector6d() << Eigen::Vector3d::Constant(config.registration_sigma_translation_m),
+         Eigen::Vector3d::Constant(config.registration_sigma_rotation_rad))
+            .finished()
+            .cwiseAbs2();
+    return widened;
+}
+
+// Why a registration is not trusted (empty when it is): convergence, support, fitness,
+// observability and the jump test, in that order.
+std::string CheckRegistration(const PclAlignment &aligned, const Association &association,
+                              const RegistrationResult &result, const MapperConfig &config) {
+    if (!aligned.converged) return "registration did not converge";
+    if (association.count < config.min_correspondences)
+        return "too few correspondences (" + std::to_string(association.count) + ")";
+    if (association.rms_m > config.max_rms_m)
+        return "bad fitness (rms " + std::to_string(association.rms_m) + " m)";
+    if (association.observability < config.min_observability)
+        return "degenerate geometry (observability " + std::to_string(association.observability) +
+               ")";
+    if (result.prior_mahalanobis_squared > config.max_prior_mahalanobis_squared)
+        return "jump outside the prior (Mahalanobis^2 " +
+               std::to_string(result.prior_mahalanobis_squared) + ")";
+    return "";
+}
+
+}  // namespace
+
+// Doppler-aware refinement (Ceres): registration + Doppler + prior residuals, re-associating
+// refine_outer_iterations times. Starts from and updates result.T_world_base.
+void RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
+                                const std::vector<DopplerObservation> &doppler_all,
+                                const MotionPrior &prior, double dt_s, Association association,
+                                RegistrationResult &result) const {
+    const std::vector<DopplerObservation> doppler =
+        (config.use_doppler && has_pose) ? Thin(doppler_all, config.max_doppler_residuals)
+                                         : std::vector<DopplerObservation>{};
+    result.doppler_residuals = static_cast<int>(doppler.size());
+    for (int outer = 0; outer < config.refine_outer_iterations; ++outer) {
+        if (outer > 0)
+            association = Associate(source_base, result.T_world_base, map, config,
+                                    result.threshold_m, config.max_registration_residuals);
+        if (association.count < config.min_correspondences) break;
+        RefinementInput input{result.T_world_base, &prior,
+                              &association.matches, &doppler,
+                              T_world_base_last,   extrinsics.T_base_radar,
+                              dt_s};
+        const RefinementOutput refined = RefinePose(input, config);
+        if (!refined.usable) break;
+        result.T_world_base = refined.T_world_base;
+    }
+    result.correspondences = association.count;
+    result.fitness_rms_m = association.rms_m;
+}
+
+// Scan-to-map registration from the prior (PCL), its checks, then the refinement. Leaves
+// result.T_world_base at the prior with a fallback reason when registration is not trusted.
+void RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source_base,
+                                       const std::vector<DopplerObservation> &doppler,
+                                       const MotionPrior &prior, double dt_s,
+                                       RegistrationResult &result) {
+    const auto t_reg = Clock::now();
+    const PclAlignment aligned =
+        AlignWithPcl(source_base, prior.T_world_base, map, config, result.threshold_m);
+    result.times.alignment_ms = MillisecondsSince(t_reg);
+    const Association association = Associate(source_base, aligned.T_world_base, map, config,
+                                              result.threshold_m, config.max_registration_residuals);
+    result.correspondences = association.count;
+    result.fitness_rms_m = association.rms_m;
+    result.observability = association.observability;
+    result.prior_mahalanobis_squared =
+        PriorMahalanobisSquared(WidenedPrior(prior, config), aligned.T_world_base);
+    result.times.registration_ms = MillisecondsSince(t_reg);
+
+    result.fallback_reason = CheckRegistration(aligned, association, result, config);
+    if (!result.fallback_reason.empty()) {
+        result.fallback = true;
+        return;
+    }
+    result.T_world_base = aligned.T_world_base;
+    if (config.refinement == Refinement::kCeres) {
+        const auto t_refine = Clock::now();
+        Refine(source_base, doppler, prior, dt_s, association, result);
+        result.times.refinement_ms = MillisecondsSince(t_refine);
+    }
+    // kiss-icp: the threshold adapts to how far registration corrected the prior.
+    threshold.Update(prior.T_world_base.inverse() * result.T_world_base);
 }
 
 RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const MotionPrior &prior,
@@ -166,86 +267,19 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
     result.source_points = static_cast<int>(source_base.cols());
     result.times.preprocess_ms = MillisecondsSince(t_start);
 
-    auto fall_back = [&](const std::string &reason) {
-        result.fallback = true;
-        result.fallback_reason = reason;
-        result.T_world_base = prior.T_world_base;
-    };
-
+    // 2-3. Registration and refinement, or the prior.
     if (s.map.empty()) {
         result.first_scan = true;  // the first scan starts the map at the prior
     } else if (result.source_points < config.min_correspondences) {
-        fall_back("too few points (" + std::to_string(result.source_points) + ")");
+        result.fallback = true;
+        result.fallback_reason = "too few points (" + std::to_string(result.source_points) + ")";
     } else {
-        // 2. Scan-to-map registration from the prior (PCL), then the checks.
-        const auto t_reg = Clock::now();
-        const auto t_align = Clock::now();
-        const PclAlignment aligned =
-            AlignWithPcl(source_base, prior.T_world_base, s.map, config, result.threshold_m);
-        result.times.alignment_ms = MillisecondsSince(t_align);
-        Association association = Associate(source_base, aligned.T_world_base, s.map, config,
-                                            result.threshold_m, config.max_registration_residuals);
-        result.correspondences = association.count;
-        result.fitness_rms_m = association.rms_m;
-        result.observability = association.observability;
-        // The jump test: the prior's uncertainty plus the registration's own noise.
-        MotionPrior widened = prior;
-        widened.covariance.diagonal() +=
-            (Vector6d() << Eigen::Vector3d::Constant(config.registration_sigma_translation_m),
-             Eigen::Vector3d::Constant(config.registration_sigma_rotation_rad))
-                .finished()
-                .cwiseAbs2();
-        result.prior_mahalanobis_squared = PriorMahalanobisSquared(widened, aligned.T_world_base);
-        result.times.registration_ms = MillisecondsSince(t_reg);
-
-        if (!aligned.converged) {
-            fall_back("registration did not converge");
-        } else if (association.count < config.min_correspondences) {
-            fall_back("too few correspondences (" + std::to_string(association.count) + ")");
-        } else if (association.rms_m > config.max_rms_m) {
-            fall_back("bad fitness (rms " + std::to_string(association.rms_m) + " m)");
-        } else if (association.observability < config.min_observability) {
-            fall_back("degenerate geometry (observability " +
-                      std::to_string(association.observability) + ")");
-        } else if (result.prior_mahalanobis_squared > config.max_prior_mahalanobis_squared) {
-            fall_back("jump outside the prior (Mahalanobis^2 " +
-                      std::to_string(result.prior_mahalanobis_squared) + ")");
-        } else {
-            result.T_world_base = aligned.T_world_base;
-            // 3. Doppler-aware refinement (Ceres): registration + Doppler + prior residuals.
-            if (config.refinement == Refinement::kCeres) {
-                const auto t_refine = Clock::now();
-                const std::vector<DopplerObservation> doppler =
-                    (config.use_doppler && s.has_pose)
-                        ? Thin(points.doppler, config.max_doppler_residuals)
-                        : std::vector<DopplerObservation>{};
-                result.doppler_residuals = static_cast<int>(doppler.size());
-                for (int outer = 0; outer < config.refine_outer_iterations; ++outer) {
-                    if (outer > 0)
-                        association =
-                            Associate(source_base, result.T_world_base, s.map, config,
-                                      result.threshold_m, config.max_registration_residuals);
-                    if (association.count < config.min_correspondences) break;
-                    RefinementInput input{result.T_world_base,
-                                          &prior,
-                                          &association.matches,
-                                          &doppler,
-                                          s.T_world_base_last,
-                                          s.extrinsics.T_base_radar,
-                                          dt_s};
-                    const RefinementOutput refined = RefinePose(input, config);
-                    if (!refined.usable) break;
-                    result.T_world_base = refined.T_world_base;
-                }
-                result.correspondences = association.count;
-                result.fitness_rms_m = association.rms_m;
-                result.times.refinement_ms = MillisecondsSince(t_refine);
-            }
-            // kiss-icp: the threshold adapts to how far registration corrected the prior.
-            s.threshold.Update(prior.T_world_base.inverse() * result.T_world_base);
-        }
+        s.RegisterToMap(source_base, points.doppler, prior, dt_s, result);
     }
-    if (result.fallback) ++s.fallbacks;
+    if (result.fallback) {
+        result.T_world_base = prior.T_world_base;
+        ++s.fallbacks;
+    }
 
     // 4. Map update (keyframes only, when configured).
     const auto t_map = Clock::now();
@@ -288,6 +322,22 @@ const char *ToString(RobustKernel kernel) {
             return "tukey";
     }
     return "?";
+}
+
+const char *ToString(Refinement refinement) {
+    switch (refinement) {
+        case Refinement::kNone:
+            return "none";
+        case Refinement::kCeres:
+            return "ceres";
+    }
+    return "?";
+}
+
+Refinement ParseRefinement(const std::string &name) {
+    for (auto r : {Refinement::kNone, Refinement::kCeres})
+        if (name == ToString(r)) return r;
+    throw std::invalid_argument("unknown refinement '" + name + "' (none, ceres)");
 }
 
 RegistrationMethod ParseRegistrationMethod(const std::string &name) {

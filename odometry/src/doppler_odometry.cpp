@@ -8,6 +8,25 @@
 
 namespace dorado::odometry {
 
+const char *ToString(OdometryMethod method) {
+    switch (method) {
+        case OdometryMethod::kDoppler: return "doppler";
+        case OdometryMethod::kImu: return "imu";
+        case OdometryMethod::kImuDoppler: return "imu+doppler";
+    }
+    return "?";
+}
+
+OdometryMethod ParseOdometryMethod(const std::string &name) {
+    for (OdometryMethod m :
+         {OdometryMethod::kDoppler, OdometryMethod::kImu, OdometryMethod::kImuDoppler}) {
+        if (name == ToString(m)) return m;
+    }
+    std::string hint;
+    if (name == "imu-only") hint = " ('imu-only' is now 'imu'; the old 'imu' is 'imu+doppler')";
+    throw std::invalid_argument("'" + name + "' is not one of: doppler, imu, imu+doppler" + hint);
+}
+
 void DopplerOdometryConfig::Validate() const {
     ego_velocity.Validate();
     if (!(max_angular_rate_radps > 0.0))
@@ -30,7 +49,7 @@ OdometryStep DopplerOdometry::Register(const RadarScan &scan_radar,
         step.T_world_base = T_world_base_;
         return step;
     }
-    if (config_.rotation != RotationSource::kImuOnly) {
+    if (config_.method != OdometryMethod::kImu) {
         step.ego = estimator_.Estimate(scan_radar);
         if (step.ego.valid) step.motion = model_.Motion(step.ego.v_radar_mps, step.ego.cov_v_radar);
     }
@@ -60,44 +79,57 @@ void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, Odomet
         step.v_base_used_mps = last_v_base_;
         step.omega_base_used_radps = last_omega_base_;
     };
-    auto accept = [&](const Eigen::Vector3d &v, const Eigen::Vector3d &omega) {
+    auto accept = [&](const Eigen::Vector3d &v, const Eigen::Vector3d &omega,
+                      const Eigen::Matrix<double, 6, 6> &covariance) {
         step.v_base_used_mps = v;
         step.omega_base_used_radps = omega;
+        step.covariance_used = covariance;
         last_v_base_ = v;
         last_omega_base_ = omega;
         has_last_twist_ = true;
     };
 
-    if (config_.rotation == RotationSource::kImuOnly) {
+    if (config_.method == OdometryMethod::kImu) {
         if (has_gyro)
-            accept(Eigen::Vector3d::Zero(), gyro_base_radps);
+            accept(Eigen::Vector3d::Zero(), gyro_base_radps, Eigen::Matrix<double, 6, 6>::Zero());
         else
             fallback("no IMU samples in the interval");
         return;
     }
     if (!step.ego.valid) return fallback(step.ego.reason);
-    if (config_.zero_velocity_update && step.ego.stationary)
-        return accept(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
-
-    if (config_.rotation == RotationSource::kImu) {
-        if (has_gyro)
-            return accept(model_.BaseVelocity(step.ego.v_radar_mps, gyro_base_radps),
-                          gyro_base_radps);
-        step.fallback_reason = "no IMU samples in the interval: rotation from the Doppler model";
-        step.used_fallback = true;
-    }
+    // eq. (7)'s covariance with the model's own error, or the angular-rate prior's posterior.
     Eigen::Vector3d v_base = step.motion.v_base_mps, omega_base = step.motion.omega_base_radps;
+    Eigen::Matrix<double, 6, 6> covariance;
+    covariance << step.motion.cov_v_base, step.motion.cov_v_omega_base,
+        step.motion.cov_v_omega_base.transpose(), step.motion.cov_omega_base;
+    covariance += step.motion.cov_model;
     if (config_.angular_rate_prior) {
         const VehicleTwist plausible = model_.PlausibleTwist(step.motion);
         v_base = plausible.v_base_mps;
         omega_base = plausible.omega_base_radps;
+        covariance = plausible.covariance;
+    }
+    if (config_.zero_velocity_update && step.ego.stationary)
+        return accept(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), covariance);
+
+    if (config_.method == OdometryMethod::kImuDoppler) {
+        if (has_gyro) {
+            // The gyro gives omega and v_base = v_s - omega x s: no model error.
+            Eigen::Matrix<double, 6, 6> gyro_covariance = Eigen::Matrix<double, 6, 6>::Zero();
+            gyro_covariance.topLeftCorner<3, 3>() = step.motion.cov_v_base;
+            gyro_covariance.bottomRightCorner<3, 3>() = step.motion.cov_omega_base;
+            return accept(model_.BaseVelocity(step.ego.v_radar_mps, gyro_base_radps),
+                          gyro_base_radps, gyro_covariance);
+        }
+        step.fallback_reason = "no IMU samples in the interval: rotation from the Doppler model";
+        step.used_fallback = true;
     }
     if (omega_base.norm() > config_.max_angular_rate_radps) {
         return fallback("angular rate " + std::to_string(omega_base.norm()) +
                         " rad/s above max_angular_rate_radps");
     }
     const std::string note = step.fallback_reason;
-    accept(v_base, omega_base);
+    accept(v_base, omega_base, covariance);
     step.fallback_reason = note;
 }
 

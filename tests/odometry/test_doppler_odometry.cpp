@@ -164,8 +164,8 @@ TEST(DopplerOdometry, OutOfOrderStampsAreSkipped) {
 TEST(DopplerOdometry, ImuRotationUsesTheGyroAndImuOnlyHasNoTranslation) {
     const Rig rig;
     DopplerOdometryConfig imu_config, imu_only_config;
-    imu_config.rotation = RotationSource::kImu;
-    imu_only_config.rotation = RotationSource::kImuOnly;
+    imu_config.method = OdometryMethod::kImuDoppler;
+    imu_only_config.method = OdometryMethod::kImu;
     DopplerOdometry imu(imu_config, rig.extrinsics, rig.geometry);
     DopplerOdometry imu_only(imu_only_config, rig.extrinsics, rig.geometry);
     // A slightly wrong s_x in the model does not matter when the rotation comes from the gyro.

@@ -41,4 +41,11 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 /// Rotation angle of R in radians, in [0, pi].
 [[nodiscard]] double RotationAngle(const Eigen::Matrix3d &R);
 
+/// R = Rz(yaw) Ry(pitch) Rx(roll) (ZYX Euler angles, radians): the one roll/pitch/yaw convention
+/// of dorado (dataset YAML rotation_rpy_deg, simulator mounts, calibration output).
+[[nodiscard]] Eigen::Matrix3d RotationFromRollPitchYaw(const Eigen::Vector3d &rpy_rad);
+
+/// The inverse of RotationFromRollPitchYaw: [roll, pitch, yaw] in radians, pitch in [-pi/2, pi/2].
+[[nodiscard]] Eigen::Vector3d RollPitchYaw(const Eigen::Matrix3d &R);
+
 }  // namespace dorado

@@ -14,6 +14,33 @@
 
 namespace dorado::mapping {
 
+/// The mapper's motion priors (paper section IV-C, Fig. 6-7); the one spelling of each is
+/// ToString's.
+enum class PriorKind {
+    kNone,        ///< "none": the previous pose, a wide covariance (the paper's failing base case)
+    kConstVel,    ///< "constvel": the last relative motion repeated (kiss-icp)
+    kImu,         ///< "imu": gyro rotation and accelerometer double integration
+    kDoppler,     ///< "doppler": the Doppler odometry's twist (the paper)
+    kImuDoppler,  ///< "imu+doppler": gyro rotation, Doppler translation (the paper's I+D)
+};
+
+/// Every kind, in the order above.
+inline constexpr PriorKind kAllPriorKinds[] = {PriorKind::kNone, PriorKind::kConstVel,
+                                               PriorKind::kImu, PriorKind::kDoppler,
+                                               PriorKind::kImuDoppler};
+/// "none" | "constvel" | "imu" | "doppler" | "imu+doppler".
+[[nodiscard]] const char *ToString(PriorKind kind);
+/// The inverse of ToString; throws std::invalid_argument listing the choices otherwise.
+[[nodiscard]] PriorKind ParsePriorKind(const std::string &name);
+/// Whether the prior needs gyro (and accelerometer) samples.
+[[nodiscard]] inline bool NeedsImu(PriorKind kind) {
+    return kind == PriorKind::kImu || kind == PriorKind::kImuDoppler;
+}
+/// Whether the prior needs the Doppler ego-velocity.
+[[nodiscard]] inline bool NeedsDoppler(PriorKind kind) {
+    return kind == PriorKind::kDoppler || kind == PriorKind::kImuDoppler;
+}
+
 /// A predicted pose of the base frame in the world, with the covariance of its error.
 ///
 /// The error is the tangent perturbation xi = [rho; phi] (translation first, metres and radians)

@@ -127,6 +127,10 @@ class RadarMapper {
 
 [[nodiscard]] const char *ToString(RegistrationMethod method);
 [[nodiscard]] const char *ToString(RobustKernel kernel);
+/// "none" | "ceres".
+[[nodiscard]] const char *ToString(Refinement refinement);
+/// The inverse of ToString(Refinement); throws std::invalid_argument listing the choices.
+[[nodiscard]] Refinement ParseRefinement(const std::string &name);
 /// Parse "point_to_point" | "point_to_plane" | "gicp"; throws std::invalid_argument.
 [[nodiscard]] RegistrationMethod ParseRegistrationMethod(const std::string &name);
 /// Parse "none" | "huber" | "cauchy" | "tukey"; throws std::invalid_argument.

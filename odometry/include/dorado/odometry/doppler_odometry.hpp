@@ -15,16 +15,25 @@
 
 namespace dorado::odometry {
 
-/// Where the rotation comes from.
-enum class RotationSource {
-    kDoppler,  ///< the kinematic model (eq. 5): radar only, the paper's method
-    kImu,      ///< gyro rotation + Doppler translation (the paper's "IMU + Doppler")
-    kImuOnly,  ///< gyro rotation, no translation (the paper's "IMU" curve; rotation RPE only)
+/// The odometry methods of the paper's Fig. 5; the one spelling of each is ToString's.
+enum class OdometryMethod {
+    kDoppler,     ///< "doppler": the kinematic model (eq. 5), radar only, the paper's method
+    kImu,         ///< "imu": gyro rotation, no translation (the paper's "IMU"; rotation RPE only)
+    kImuDoppler,  ///< "imu+doppler": gyro rotation + Doppler translation (the paper's "I+D")
 };
+
+/// "doppler" | "imu" | "imu+doppler".
+[[nodiscard]] const char *ToString(OdometryMethod method);
+/// The inverse of ToString; throws std::invalid_argument listing the choices otherwise.
+[[nodiscard]] OdometryMethod ParseOdometryMethod(const std::string &name);
+/// Whether the method needs gyro samples.
+[[nodiscard]] inline bool NeedsImu(OdometryMethod method) {
+    return method != OdometryMethod::kDoppler;
+}
 
 struct DopplerOdometryConfig {
     EgoVelocityConfig ego_velocity;
-    RotationSource rotation = RotationSource::kDoppler;
+    OdometryMethod method = OdometryMethod::kDoppler;
     /// Stationary scans (see EgoVelocityConfig::stationary_speed_mps) integrate a zero twist.
     bool zero_velocity_update = true;
     /// A Doppler-derived |omega| above this is treated like an invalid scan (fallback) [rad/s].
@@ -48,6 +57,10 @@ struct OdometryStep {
     VehicleMotion motion;  ///< from the kinematic model, eq. (5) and (7) (when ego.valid)
     Eigen::Vector3d v_base_used_mps = Eigen::Vector3d::Zero();  ///< the twist integrated
     Eigen::Vector3d omega_base_used_radps = Eigen::Vector3d::Zero();
+    /// Covariance of [v_base_used; omega_base_used]: eq. (7) plus the kinematic model's own error
+    /// (the angular-rate prior's posterior when angular_rate_prior is on); with the gyro
+    /// (kImuDoppler), eq. (7)'s blocks. Zero for a fallback twist.
+    Eigen::Matrix<double, 6, 6> covariance_used = Eigen::Matrix<double, 6, 6>::Zero();
     bool used_fallback = false;
     std::string fallback_reason;
     Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();  ///< pose after this scan
@@ -62,7 +75,7 @@ class DopplerOdometry {
 
     /// Processes one scan. `gyro_base_radps` is the mean gyro rate over the interval since the
     /// previous scan, rotated into the base frame (NaN when there is no IMU); it is needed only
-    /// for RotationSource::kImu / kImuOnly. The pose integrates the twist over the real time since
+    /// for OdometryMethod::kImu / kImuDoppler. The pose integrates the twist over the real time since
     /// the previously integrated scan, so dropped scans lose no time:
     ///   T_world_base(k) = T_world_base(k-1) * ExpSE3([v_base; omega_base] * dt)
     /// (exact for a twist constant over the interval). Never throws on bad data.

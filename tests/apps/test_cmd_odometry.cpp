@@ -23,7 +23,7 @@ class CmdOdometry : public ::testing::Test {
         dir_ =
             fs::path(::testing::TempDir()) / ("dorado_cmd_odometry_" + std::to_string(::getpid()));
         const std::string cmd = std::string(DORADO_SYSTEM_PYTHON) + " " + DORADO_SOURCE_DIR +
-                                "/tests/odometry/make_odometry_bag.py " + dir_.string();
+                                "/tests/apps/make_odometry_bag.py " + dir_.string();
         ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
     }
     static void TearDownTestSuite() { fs::remove_all(dir_); }
@@ -111,10 +111,10 @@ TEST_F(CmdOdometry, DopplerOdometryFollowsTheCircleAndReportsTheBadScan) {
 }
 
 TEST_F(CmdOdometry, ImuRotationAndImuOnly) {
-    for (const std::string mode : {"imu", "imu-only"}) {
+    for (const std::string mode : {"imu+doppler", "imu"}) {
         const fs::path out = dir_ / mode;
         std::string err;
-        ASSERT_EQ(Dorado("odometry " + Dataset() + " --rotation " + mode + " --out " + out.string(),
+        ASSERT_EQ(Dorado("odometry " + Dataset() + " --method " + mode + " --out " + out.string(),
                          &err),
                   0)
             << err;
@@ -123,7 +123,7 @@ TEST_F(CmdOdometry, ImuRotationAndImuOnly) {
         const double T = dorado::NanosToSeconds(last.stamp_ns - trajectory[0].stamp_ns);
         // The gyro is exact here, so the rotation is (up to the first interval without IMU).
         EXPECT_NEAR(dorado::RotationAngle(last.T_world_body.linear()), 0.4 * T, 0.05) << mode;
-        if (mode == "imu-only")
+        if (mode == "imu")
             EXPECT_LT(last.T_world_body.translation().norm(), 1e-9);
         else
             EXPECT_LT((last.T_world_body.translation() - TruePose(T).translation()).norm(), 0.3);

@@ -1,5 +1,7 @@
 #include "dorado/sim/simulator.hpp"
 
+#include "dorado/core/lie.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -32,11 +34,6 @@ struct Clock {
         return static_cast<std::size_t>((end_ns - phase_ns) / period_ns + 1);
     }
 };
-
-/// Roll and pitch (ZYX convention) of a base pose.
-Eigen::Vector2d RollPitch(const Eigen::Matrix3d &R) {
-    return {std::atan2(R(2, 1), R(2, 2)), -std::asin(std::clamp(R(2, 0), -1.0, 1.0))};
-}
 
 }  // namespace
 
@@ -131,7 +128,7 @@ SimulationResult Simulate(const SequenceConfig &config, const std::string &bag_p
                     std::max(stats.max_dynamic_fraction,
                              static_cast<double>(moving_here) / static_cast<double>(n));
             }
-            const Eigen::Vector2d roll_pitch = RollPitch(T_world_base.linear());
+            const Eigen::Vector2d roll_pitch = RollPitchYaw(T_world_base.linear()).head<2>();
             stats.max_abs_roll_deg =
                 std::max(stats.max_abs_roll_deg, std::abs(roll_pitch.x()) * 180.0 / M_PI);
             stats.max_abs_pitch_deg =

@@ -79,7 +79,7 @@ class CmdFaults : public ::testing::Test {
     static void SetUpTestSuite() {
         dir_ = fs::path(::testing::TempDir()) / ("dorado_cmd_faults_" + std::to_string(::getpid()));
         const std::string cmd = std::string(DORADO_SYSTEM_PYTHON) + " " + DORADO_SOURCE_DIR +
-                                "/tests/odometry/make_fault_bag.py " + dir_.string();
+                                "/tests/apps/make_fault_bag.py " + dir_.string();
         ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
     }
     static void TearDownTestSuite() { fs::remove_all(dir_); }
@@ -315,8 +315,8 @@ TEST_F(CmdFaults, ConfiguredTopicsWithoutMessages) {
     const std::string empty_imu =
         "dorado: error: " + (dir_ / "empty_topics" / "data.bag").string() +
         ": topic '/imu/data' (rosbag.imu_topic) has no messages; ";
-    for (const std::string rotation : {"imu", "imu-only"}) {
-        r = Dorado("odometry " + EmptyTopics() + " --rotation " + rotation + " --out " +
+    for (const std::string rotation : {"imu", "imu+doppler"}) {
+        r = Dorado("odometry " + EmptyTopics() + " --method " + rotation + " --out " +
                    (dir_ / "x").string());
         EXPECT_EQ(r.code, 1) << rotation;
         EXPECT_EQ(r.err, empty_imu + "rotation from the IMU needs IMU samples\n") << rotation;

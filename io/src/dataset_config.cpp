@@ -1,5 +1,7 @@
 #include "dorado/io/dataset_config.hpp"
 
+#include "dorado/core/lie.hpp"
+
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
@@ -31,12 +33,7 @@ Eigen::Isometry3d ReadTransform(YamlSection section) {
     if (has_rpy) {
         Eigen::Vector3d rpy = Eigen::Vector3d::Zero();
         section.ReadVector3("rotation_rpy_deg", rpy);
-        rpy *= M_PI / 180.0;
-        // R = Rz(yaw) Ry(pitch) Rx(roll)
-        T.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
-                      Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-                      Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
-                         .toRotationMatrix();
+        T.linear() = RotationFromRollPitchYaw(rpy * M_PI / 180.0);
     }
     if (has_q) {
         const auto q = section.Get<std::vector<double>>("quaternion_xyzw", {});

@@ -1,5 +1,7 @@
 #include "dorado/sim/sequence_config.hpp"
 
+#include "dorado/core/lie.hpp"
+
 #include <cmath>
 #include <filesystem>
 #include <vector>
@@ -160,12 +162,8 @@ class Checker {
 }  // namespace
 
 Eigen::Isometry3d MountConfig::Transform() const {
-    const Eigen::Vector3d rpy = rotation_rpy_deg * M_PI / 180.0;
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
-                  Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-                  Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
-                     .toRotationMatrix();
+    T.linear() = RotationFromRollPitchYaw(rotation_rpy_deg * M_PI / 180.0);
     T.translation() = translation_m;
     return T;
 }

@@ -1,10 +1,10 @@
-#include "odometry_config.hpp"
+#include "dorado/config/odometry_config.hpp"
 
 #include <stdexcept>
 
 #include "dorado/io/yaml_section.hpp"
 
-namespace dorado::apps {
+namespace dorado::config {
 namespace {
 
 using odometry::CovarianceModel;
@@ -61,11 +61,12 @@ void ReadEgoVelocity(io::YamlSection m, odometry::EgoVelocityConfig &c) {
 
 }  // namespace
 
-odometry::RotationSource ParseRotationSource(const std::string &text, const std::string &what) {
-    if (text == "doppler") return odometry::RotationSource::kDoppler;
-    if (text == "imu") return odometry::RotationSource::kImu;
-    if (text == "imu-only") return odometry::RotationSource::kImuOnly;
-    throw io::ConfigError(what + ": '" + text + "' is not one of: doppler, imu, imu-only");
+odometry::OdometryMethod ParseOdometryMethodKey(const std::string &text, const std::string &what) {
+    try {
+        return odometry::ParseOdometryMethod(text);
+    } catch (const std::invalid_argument &e) {
+        throw io::ConfigError(what + ": " + e.what());
+    }
 }
 
 odometry::DopplerOdometryConfig LoadOdometryConfig(const std::string &yaml_path) {
@@ -74,8 +75,13 @@ odometry::DopplerOdometryConfig LoadOdometryConfig(const std::string &yaml_path)
     ReadEgoVelocity(top.Child("ego_velocity"), config.ego_velocity);
     io::YamlSection odo = top.Child("odometry");
     if (odo.Has("rotation")) {
-        config.rotation = ParseRotationSource(odo.Get<std::string>("rotation", ""),
-                                              yaml_path + ": key 'odometry.rotation'");
+        throw io::ConfigError(yaml_path +
+                              ": key 'odometry.rotation' is now 'odometry.method' (doppler | imu "
+                              "| imu+doppler; the old 'imu' is 'imu+doppler', 'imu-only' is 'imu')");
+    }
+    if (odo.Has("method")) {
+        config.method = ParseOdometryMethodKey(odo.Get<std::string>("method", ""),
+                                               yaml_path + ": key 'odometry.method'");
     }
     odo.Read("zero_velocity_update", config.zero_velocity_update);
     odo.Read("max_angular_rate_radps", config.max_angular_rate_radps);
@@ -93,4 +99,4 @@ odometry::DopplerOdometryConfig LoadOdometryConfig(const std::string &yaml_path)
     return config;
 }
 
-}  // namespace dorado::apps
+}  // namespace dorado::config

@@ -223,11 +223,8 @@ std::vector<BenchRun> PlanBenchmark(const BenchConfig &config, const std::string
         };
         for (const std::string &m : config.odometry_methods) {
             // The paper's three: gyro-only rotation ("IMU"), Doppler only, IMU + Doppler.
-            const std::string rotation = m == "imu"       ? "imu-only"
-                                         : m == "doppler" ? "doppler"
-                                                          : "imu";
             add_run(RunKind::kOdometry, "odom_" + m,
-                    {"odometry", dataset, "--out", "{out}", "--rotation", rotation},
+                    {"odometry", dataset, "--out", "{out}", "--method", m},
                     config.odometry_config);
         }
         for (const std::string &prior : config.map_priors) {

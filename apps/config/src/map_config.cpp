@@ -1,10 +1,10 @@
-#include "map_config.hpp"
+#include "dorado/config/map_config.hpp"
 
 #include <stdexcept>
 
 #include "dorado/io/yaml_section.hpp"
 
-namespace dorado::apps {
+namespace dorado::config {
 namespace {
 
 using io::YamlSection;
@@ -28,8 +28,7 @@ void ReadMapper(YamlSection s, mapping::MapperConfig &c) {
     s.Read("min_threshold_m", c.min_threshold_m);
     s.Read("min_motion_m", c.min_motion_m);
     s.Read("covariance_neighbours", c.covariance_neighbours);
-    s.ReadEnum("refinement", c.refinement,
-               {{"ceres", mapping::Refinement::kCeres}, {"none", mapping::Refinement::kNone}});
+    s.ReadParsed("refinement", c.refinement, mapping::ParseRefinement);
     s.ReadParsed("kernel", c.kernel, mapping::ParseRobustKernel);
     s.Read("kernel_scale", c.kernel_scale);
     s.Read("point_sigma_m", c.point_sigma_m);
@@ -65,6 +64,22 @@ void ReadPrior(YamlSection s, mapping::PriorNoiseConfig &c) {
 
 }  // namespace
 
+mapping::PriorKind ParsePriorKindKey(const std::string &text, const std::string &what) {
+    try {
+        return mapping::ParsePriorKind(text);
+    } catch (const std::invalid_argument &e) {
+        throw io::ConfigError(what + ": " + e.what());
+    }
+}
+
+mapping::Refinement ParseRefinementKey(const std::string &text, const std::string &what) {
+    try {
+        return mapping::ParseRefinement(text);
+    } catch (const std::invalid_argument &e) {
+        throw io::ConfigError(what + ": " + e.what());
+    }
+}
+
 MapCommandConfig LoadMapConfig(const std::string &yaml_path) {
     MapCommandConfig config;
     YamlSection top(io::LoadYamlFile(yaml_path), yaml_path);
@@ -84,4 +99,4 @@ MapCommandConfig LoadMapConfig(const std::string &yaml_path) {
     return config;
 }
 
-}  // namespace dorado::apps
+}  // namespace dorado::config

@@ -1,0 +1,29 @@
+#pragma once
+/// @file map_config.hpp
+/// The mapper configuration file (configs/mapper.yaml) -> dorado::mapping config structs, and
+/// the mapper's enum keys.
+
+#include <string>
+
+#include "dorado/mapping/motion_prior.hpp"
+#include "dorado/mapping/radar_mapper.hpp"
+
+namespace dorado::config {
+
+struct MapCommandConfig {
+    mapping::MapperConfig mapper;
+    mapping::PriorNoiseConfig prior;
+    double output_voxel_m = 0.3;  ///< density of map.pcd / map.ply / map.png
+};
+
+/// Reads and validates a mapper YAML file. Unknown keys, wrong types and bad values throw
+/// io::ConfigError naming the file and the key (e.g. "mapper.yaml: key 'mapper.scan_voxel_m'").
+[[nodiscard]] MapCommandConfig LoadMapConfig(const std::string &yaml_path);
+
+/// mapping::ParsePriorKind, throwing io::ConfigError naming `what` (a key or a flag).
+[[nodiscard]] mapping::PriorKind ParsePriorKindKey(const std::string &text, const std::string &what);
+/// mapping::ParseRefinement, throwing io::ConfigError naming `what`.
+[[nodiscard]] mapping::Refinement ParseRefinementKey(const std::string &text,
+                                                     const std::string &what);
+
+}  // namespace dorado::config

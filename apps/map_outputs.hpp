@@ -1,0 +1,46 @@
+#pragma once
+/// @file map_outputs.hpp
+/// What `dorado map` writes: scans.csv (per scan: time per stage, prior, registration), the output
+/// map (map.pcd, map.ply, map.png), trajectory.tum, and the per-run counts for summary.json.
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "dorado/frontend/radar_front_end.hpp"
+#include "dorado/mapping/local_map.hpp"
+
+namespace dorado::apps {
+
+class MapOutputs {
+  public:
+    /// output_voxel_m: the density of the written map (finer than the mapper's own map).
+    explicit MapOutputs(double output_voxel_m);
+
+    /// Records one accepted scan.
+    void Add(const frontend::FrontEndResult &result);
+
+    /// Writes trajectory.tum, the map files and scans.csv into out_dir.
+    void Write(const std::string &out_dir, const Trajectory &trajectory) const;
+
+    /// The counts and timings for summary.json: fallbacks and their reasons, prior
+    /// substitutions, scans without a mask, time per scan and per stage (mean, median, p95).
+    [[nodiscard]] nlohmann::json Summary() const;
+
+    [[nodiscard]] double mean_time_ms() const;
+    [[nodiscard]] int fallbacks() const { return fallbacks_; }
+
+  private:
+    mapping::LocalMap map_;
+    std::vector<Eigen::Vector3d> positions_;
+    std::string csv_;
+    std::map<std::string, std::vector<double>> stage_ms_;  ///< by stage name
+    std::map<std::string, int> fallback_reasons_, prior_substitutions_;
+    int fallbacks_ = 0, unmasked_ = 0;
+};
+
+/// {"mean", "median", "p95"} of the values (null when empty).
+[[nodiscard]] nlohmann::json TimeStatistics(std::vector<double> values_ms);
+
+}  // namespace dorado::apps

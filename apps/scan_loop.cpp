@@ -1,0 +1,74 @@
+#include "scan_loop.hpp"
+
+#include "dorado/io/atomic_file.hpp"
+#include "dorado/mapping/motion_prior.hpp"
+
+namespace dorado::apps {
+
+void ScanLoop::Run(io::DatasetReader &reader, StreamGuard &guard, Progress &progress,
+                   const OnScan &on_scan) {
+    io::DatasetEvent event;
+    while (guard.Next(reader, event)) {
+        if (event.kind == io::DatasetEvent::Kind::kImu) front_end_.AddImu(event.imu);
+        if (event.kind == io::DatasetEvent::Kind::kBadScan) {
+            ++scans_;
+            skips_.Add(event.scan_index, "unreadable scan", event.problem);
+        }
+        if (event.kind != io::DatasetEvent::Kind::kRadarScan) continue;
+        ++scans_;
+        const frontend::FrontEndResult result = front_end_.Process(event.scan);
+        progress.Update(scans_);
+        if (!result.accepted) {
+            skips_.Add(event.scan_index, "timestamp out of order", result.skip_reason);
+            continue;
+        }
+        Warn(event, result);
+        nonfinite_points_ += event.removed_nonfinite_points;
+        ++used_;
+        on_scan(event, result);
+    }
+    progress.Finish();
+}
+
+// What was done about a scan without a point, or after a gap: the mapper's prior stood in, or
+// the odometry integrated a twist.
+void ScanLoop::Warn(const io::DatasetEvent &event, const frontend::FrontEndResult &result) {
+    const bool mapping = front_end_.config().run_mapper;
+    const std::string prior = mapping::ToString(result.prior_used);
+    if (event.scan.empty()) {
+        const std::string done = mapping ? ": pose from the " + prior + " prior"
+                                 : result.odometry.used_fallback
+                                     ? ": " + result.odometry.fallback_reason
+                                     : std::string();
+        skips_.WarnNoFinitePoints(event.scan_index, event.removed_nonfinite_points, done);
+    }
+    if (result.dt_s > 0.0 && gaps_.IsGap(result.dt_s)) {
+        skips_.Warn(event.scan_index, "gap",
+                    gaps_.Describe(result.dt_s) +
+                        (mapping ? "; the " + prior + " prior spans it"
+                                 : "; integrated this scan's twist over it"));
+    }
+}
+
+bool HasImuTopic(const io::DatasetConfig &dataset) {
+    return dataset.reader == io::ReaderKind::kRosbag && !dataset.rosbag.imu_topic.empty();
+}
+
+std::string DatasetFile(const io::DatasetConfig &dataset, const std::string &arg) {
+    return dataset.config_path.empty() ? arg : dataset.config_path;
+}
+
+void AddStreamCounts(const ScanLoop &loop, nlohmann::json &summary) {
+    summary["skip_reasons"] = loop.skips().Counts();
+    summary["skipped"] = loop.skips().Scans();
+    summary["warnings"] = loop.skips().WarningCounts();
+    summary["warned"] = loop.skips().Warnings();
+    summary["nonfinite_points_removed"] = loop.nonfinite_points();
+}
+
+void WriteSummary(const std::string &out_dir, const nlohmann::json &summary) {
+    io::WriteFileAtomically(out_dir + "/summary.json",
+                            [&](std::ostream &os) { os << summary.dump(2) << '\n'; });
+}
+
+}  // namespace dorado::apps

@@ -1,0 +1,56 @@
+#pragma once
+/// @file scan_loop.hpp
+/// A dataset's event stream through the front end, with the bookkeeping `dorado odometry` and
+/// `dorado map` both report: unreadable and out-of-order scans (skipped, counted), scans without
+/// a finite point and gaps (used, warned), NaN/Inf points removed.
+
+#include <cstddef>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "dorado/frontend/radar_front_end.hpp"
+#include "dorado/io/dataset.hpp"
+#include "progress.hpp"
+#include "skip_log.hpp"
+#include "stream_guard.hpp"
+
+namespace dorado::apps {
+
+class ScanLoop {
+  public:
+    using OnScan =
+        std::function<void(const io::DatasetEvent &event, const frontend::FrontEndResult &result)>;
+
+    explicit ScanLoop(frontend::RadarFrontEnd &front_end) : front_end_(front_end) {}
+
+    /// Reads events until the stream ends (or the guard stops it): IMU samples go to the front
+    /// end, radar scans through it; on_scan is called for every scan it accepted.
+    void Run(io::DatasetReader &reader, StreamGuard &guard, Progress &progress,
+             const OnScan &on_scan);
+
+    [[nodiscard]] const SkipLog &skips() const { return skips_; }
+    [[nodiscard]] std::size_t scans() const { return scans_; }  ///< radar messages, read or not
+    [[nodiscard]] std::size_t used() const { return used_; }    ///< accepted by the front end
+    [[nodiscard]] long long nonfinite_points() const { return nonfinite_points_; }
+
+  private:
+    void Warn(const io::DatasetEvent &event, const frontend::FrontEndResult &result);
+
+    frontend::RadarFrontEnd &front_end_;
+    SkipLog skips_;
+    GapWatch gaps_;
+    std::size_t scans_ = 0, used_ = 0;
+    long long nonfinite_points_ = 0;
+};
+
+/// Whether the dataset has an IMU topic configured.
+[[nodiscard]] bool HasImuTopic(const io::DatasetConfig &dataset);
+/// The file to name in a message about the dataset description (the YAML, or the bag given).
+[[nodiscard]] std::string DatasetFile(const io::DatasetConfig &dataset, const std::string &arg);
+/// Adds the loop's skip and warning lists and counts to summary.json.
+void AddStreamCounts(const ScanLoop &loop, nlohmann::json &summary);
+/// Writes out_dir/summary.json atomically.
+void WriteSummary(const std::string &out_dir, const nlohmann::json &summary);
+
+}  // namespace dorado::apps

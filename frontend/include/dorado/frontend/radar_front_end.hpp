@@ -1,0 +1,129 @@
+#pragma once
+/// @file radar_front_end.hpp
+/// The per-scan pipeline as one object with no I/O: the Doppler odometry hands a motion prior and
+/// a dynamic-point mask to the radar ICP mapper, scan by scan. `dorado odometry`, `dorado map`,
+/// `dorado bench` and the ROS node `dorado_ros` are thin drivers of it.
+///
+/// Per scan (paper section IV):
+///   1. ego-velocity (eq. 1-2, RANSAC) and its mask, and the vehicle twist through the kinematic
+///      model (eq. 5, 7): odometry::DopplerOdometry, with every odometry setting;
+///   2. the motion prior (PriorKind), with a substitution when its inputs are missing;
+///   3. scan-to-map registration, refinement and map update (mapping::RadarMapper).
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dorado/core/extrinsics.hpp"
+#include "dorado/core/imu.hpp"
+#include "dorado/core/lie.hpp"
+#include "dorado/core/radar_scan.hpp"
+#include "dorado/core/trajectory.hpp"
+#include "dorado/mapping/motion_prior.hpp"
+#include "dorado/mapping/radar_mapper.hpp"
+#include "dorado/odometry/doppler_odometry.hpp"
+
+namespace dorado::frontend {
+
+/// Everything the pipeline is configured with (the CLI's odometry and mapper YAML files, the
+/// node's parameters).
+struct FrontEndConfig {
+    /// The Doppler chain (ego-velocity, zero-velocity update, angular-rate limit and prior). Its
+    /// `method` is the odometry's; with the mapper on, the prior decides (see Validate).
+    odometry::DopplerOdometryConfig odometry;
+    /// Run the scan-to-map mapper after the odometry (false: odometry only, as `dorado odometry`).
+    bool run_mapper = true;
+    mapping::PriorKind prior = mapping::PriorKind::kDoppler;
+    bool use_mask = true;  ///< register only the points the ego-velocity labels static
+    mapping::MapperConfig mapper;
+    mapping::PriorNoiseConfig prior_noise;
+
+    /// Throws std::invalid_argument naming the first bad field ("mapper.max_range_m: ...").
+    void Validate() const;
+};
+
+/// Milliseconds spent in each stage of Process.
+struct FrontEndTimes {
+    double doppler_ms = 0.0;  ///< ego-velocity + kinematic model
+    double prior_ms = 0.0;    ///< building the motion prior
+    mapping::StageTimes mapper;  ///< preprocess, registration, refinement, map update
+    double total_ms = 0.0;
+};
+
+/// What the front end did with one scan.
+struct FrontEndResult {
+    int64_t stamp_ns = 0;
+    /// False when the scan was not used (a stamp not after the previous scan's): skip_reason says
+    /// why, and every pose below is the previous one.
+    bool accepted = false;
+    std::string skip_reason;
+    double dt_s = 0.0;  ///< time since the previous accepted scan (0 for the first)
+
+    /// The best pose: the mapper's when it runs, the odometry's otherwise.
+    Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
+    /// The Doppler odometry's own dead-reckoned pose (the paper's node publishes this one).
+    Eigen::Isometry3d T_world_base_odometry = Eigen::Isometry3d::Identity();
+    /// The twist integrated by the odometry, in the base frame, with the joint covariance of
+    /// [v_base; omega_base] (eq. 7 plus the kinematic model's own error).
+    odometry::VehicleTwist twist_base;
+    /// The odometry's step (ego-velocity, eq. 5 motion, fallback), as dorado odometry reports it.
+    odometry::OdometryStep odometry;
+    /// The mean gyro rate over the scan interval in the base frame (NaN without IMU samples).
+    Eigen::Vector3d gyro_base_radps = Eigen::Vector3d::Constant(NAN);
+    /// The dynamic mask: true = static, one per input point; empty when no valid ego-velocity.
+    mapping::PointMask static_mask;
+
+    /// The prior that was asked for, and the one used: they differ when a substitution happened
+    /// (no IMU samples in the interval, no valid Doppler velocity), and then prior_substitution
+    /// says why. The first scan has no prior (prior_first_scan).
+    mapping::PriorKind prior_requested = mapping::PriorKind::kDoppler;
+    mapping::PriorKind prior_used = mapping::PriorKind::kDoppler;
+    bool prior_first_scan = false;
+    std::string prior_substitution;
+    /// The mapper's result (when run_mapper): fallback, correspondences, fitness, ...
+    mapping::RegistrationResult registration;
+    /// The scan's static, in-range points in the world frame at the final pose (what the mapper
+    /// adds to its map), for an output map or a live display.
+    Eigen::Matrix3Xd static_points_world;
+
+    FrontEndTimes times;
+};
+
+class RadarFrontEnd {
+  public:
+    /// Validates the config; throws std::invalid_argument for a bad config or an unobservable
+    /// mount (see odometry::KinematicModel).
+    RadarFrontEnd(FrontEndConfig config, const Extrinsics &extrinsics,
+                  const VehicleGeometry &geometry);
+    ~RadarFrontEnd();
+    RadarFrontEnd(RadarFrontEnd &&) noexcept;
+    RadarFrontEnd &operator=(RadarFrontEnd &&) noexcept;
+
+    /// Buffers one IMU sample (IMU frame). Samples are used by the scan whose interval
+    /// (previous scan, this scan] holds their stamp; older ones are dropped.
+    void AddImu(const ImuSample &sample);
+
+    /// Processes one scan (radar frame). Never throws on bad data.
+    FrontEndResult Process(const RadarScan &scan_radar);
+
+    /// Starts over at T_world_base: the next scan is a first scan (a new map, no prior).
+    void Reset(const Eigen::Isometry3d &T_world_base = Eigen::Isometry3d::Identity());
+
+    /// One pose per accepted scan (the best pose, as FrontEndResult::T_world_base).
+    [[nodiscard]] const Trajectory &trajectory() const;
+    /// The mapper's local map (nullptr when the mapper is off).
+    [[nodiscard]] const mapping::LocalMap *local_map() const;
+    [[nodiscard]] const FrontEndConfig &config() const;
+    /// Stamp of the last accepted scan (false when none yet).
+    [[nodiscard]] bool has_last_stamp() const;
+    [[nodiscard]] int64_t last_stamp_ns() const;
+
+  private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+}  // namespace dorado::frontend

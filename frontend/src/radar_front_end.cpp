@@ -1,0 +1,263 @@
+#include "dorado/frontend/radar_front_end.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+
+#include "dorado/core/time.hpp"
+
+namespace dorado::frontend {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MillisecondsSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// With the mapper on, the odometry's method follows the prior: the imu+doppler prior needs the
+// gyro-rotation chain, every other prior the Doppler model's (gyro-only odometry has no Doppler
+// velocity, hence no mask).
+odometry::DopplerOdometryConfig OdometryConfigFor(const FrontEndConfig &config) {
+    odometry::DopplerOdometryConfig odometry = config.odometry;
+    if (config.run_mapper) {
+        odometry.method = config.prior == mapping::PriorKind::kImuDoppler
+                              ? odometry::OdometryMethod::kImuDoppler
+                              : odometry::OdometryMethod::kDoppler;
+    }
+    return odometry;
+}
+
+// The prior's twist from the odometry's (block-diagonal: the mapper's prior drops the v-omega
+// cross-covariance).
+mapping::BaseTwist PriorTwist(const odometry::OdometryStep &step) {
+    return {step.v_base_used_mps, step.omega_base_used_radps,
+            step.covariance_used.topLeftCorner<3, 3>(),
+            step.covariance_used.bottomRightCorner<3, 3>()};
+}
+
+// "no valid velocity: too few points (3 < 10)" -> "doppler: no valid velocity".
+std::string Cause(const std::string &reason) {
+    return "doppler: " + reason.substr(0, reason.find(':'));
+}
+
+}  // namespace
+
+void FrontEndConfig::Validate() const {
+    odometry.Validate();
+    if (run_mapper) {
+        mapper.Validate();
+        prior_noise.Validate();
+    }
+}
+
+struct RadarFrontEnd::State {
+    State(FrontEndConfig c, const Extrinsics &e, const VehicleGeometry &g)
+        : config((c.Validate(), std::move(c))),
+          extrinsics(e),
+          geometry(g),
+          odometry(OdometryConfigFor(config), e, g) {
+        if (config.run_mapper) mapper.emplace(config.mapper, e);
+    }
+
+    FrontEndConfig config;
+    Extrinsics extrinsics;
+    VehicleGeometry geometry;
+    odometry::DopplerOdometry odometry;
+    std::optional<mapping::RadarMapper> mapper;
+    ImuWindow imu;
+    Trajectory trajectory;
+    Eigen::Isometry3d T_world_base_initial = Eigen::Isometry3d::Identity();
+    // The last two accepted poses since the last reset (constvel, imu priors).
+    int scans_since_reset = 0;
+    Eigen::Isometry3d T_prev = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_prev2 = Eigen::Isometry3d::Identity();
+    double last_dt_s = 0.0;
+    bool has_last = false;
+    int64_t last_stamp_ns = 0;
+
+    mapping::MotionPrior BuildPrior(const odometry::OdometryStep &step, int64_t stamp_ns,
+                                    double dt_s, FrontEndResult &result) const;
+    Eigen::Matrix3Xd StaticPointsWorld(const RadarScan &scan, const mapping::PointMask *mask,
+                                       const Eigen::Isometry3d &T_world_base) const;
+};
+
+mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometryStep &step,
+                                                      int64_t stamp_ns, double dt_s,
+                                                      FrontEndResult &result) const {
+    using mapping::PriorKind;
+    const PriorKind kind = config.prior;
+    result.prior_requested = kind;
+    result.prior_used = kind;
+    if (scans_since_reset == 0) {  // the first scan defines the world
+        mapping::MotionPrior prior;
+        prior.T_world_base = T_world_base_initial;
+        prior.covariance = Matrix6d::Identity() * 1e-6;
+        prior.source = "first scan";
+        result.prior_first_scan = true;
+        return prior;
+    }
+    const bool has_two = scans_since_reset >= 2 && last_dt_s > 0.0;
+    const mapping::PriorNoiseConfig &noise = config.prior_noise;
+    auto constvel = [&] {
+        return has_two ? mapping::PriorConstantVelocity(T_prev2, T_prev, last_dt_s, dt_s, noise)
+                       : mapping::PriorFromPreviousPose(T_prev, noise);
+    };
+    std::optional<mapping::MotionPrior> built;
+    std::string why_not;
+    const std::vector<ImuSample> &imu_samples = imu.samples();
+    switch (kind) {
+        case PriorKind::kNone: built = mapping::PriorFromPreviousPose(T_prev, noise); break;
+        case PriorKind::kConstVel: built = constvel(); break;
+        case PriorKind::kImu: {
+            const Eigen::Vector3d v_world =
+                has_two ? Eigen::Vector3d((T_prev.translation() - T_prev2.translation()) /
+                                          last_dt_s)
+                        : Eigen::Vector3d::Zero();
+            built = mapping::PriorFromImu(T_prev, v_world, imu_samples, last_stamp_ns, stamp_ns,
+                                          extrinsics.T_base_imu, noise);
+            if (!built) why_not = "no imu samples";
+            break;
+        }
+        case PriorKind::kDoppler:
+        case PriorKind::kImuDoppler:
+            // The odometry's twist honours every odometry setting; a fallback twist (no valid
+            // velocity, an implausible angular rate) is not a measurement: substitute.
+            if (step.used_fallback && !step.ego.valid) {
+                why_not = Cause(step.ego.reason);
+            } else if (step.used_fallback &&
+                       step.fallback_reason.find("max_angular_rate_radps") != std::string::npos) {
+                why_not = "doppler: angular rate above max_angular_rate_radps";
+            } else if (kind == PriorKind::kDoppler) {
+                built = mapping::PriorFromDoppler(T_prev, PriorTwist(step), dt_s, noise);
+            } else {
+                built = mapping::PriorFromImuAndDoppler(T_prev, PriorTwist(step), imu_samples,
+                                                        last_stamp_ns + 1, stamp_ns,
+                                                        extrinsics.T_base_imu, dt_s, noise);
+                if (!built) why_not = "no imu samples";
+            }
+            break;
+    }
+    if (!built) {
+        result.prior_used = PriorKind::kConstVel;
+        result.prior_substitution = why_not;
+        built = constvel();
+    }
+    return *built;
+}
+
+Eigen::Matrix3Xd RadarFrontEnd::State::StaticPointsWorld(
+    const RadarScan &scan, const mapping::PointMask *mask,
+    const Eigen::Isometry3d &T_world_base) const {
+    Eigen::Matrix3Xd p_world(3, scan.size());
+    Eigen::Index n = 0;
+    // Frames: radar in, world out.
+    const Eigen::Isometry3d T_world_radar = T_world_base * extrinsics.T_base_radar;
+    for (Eigen::Index i = 0; i < scan.size(); ++i) {
+        if (mask != nullptr && !(*mask)(i)) continue;
+        const double range = scan.xyz_radar.col(i).norm();
+        if (!(range >= config.mapper.min_range_m && range <= config.mapper.max_range_m)) continue;
+        p_world.col(n++) = T_world_radar * scan.xyz_radar.col(i);
+    }
+    p_world.conservativeResize(3, n);
+    return p_world;
+}
+
+RadarFrontEnd::RadarFrontEnd(FrontEndConfig config, const Extrinsics &extrinsics,
+                             const VehicleGeometry &geometry)
+    : state_(std::make_unique<State>(std::move(config), extrinsics, geometry)) {}
+RadarFrontEnd::~RadarFrontEnd() = default;
+RadarFrontEnd::RadarFrontEnd(RadarFrontEnd &&) noexcept = default;
+RadarFrontEnd &RadarFrontEnd::operator=(RadarFrontEnd &&) noexcept = default;
+
+void RadarFrontEnd::AddImu(const ImuSample &sample) { state_->imu.Add(sample); }
+
+FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
+    State &s = *state_;
+    FrontEndResult result;
+    result.stamp_ns = scan_radar.stamp_ns;
+    result.T_world_base = s.scans_since_reset > 0 ? s.T_prev : s.T_world_base_initial;
+    const auto t_start = Clock::now();
+    // The one timestamp-order check (it also holds across a Reset).
+    if (!s.trajectory.empty() && scan_radar.stamp_ns <= s.trajectory.poses().back().stamp_ns) {
+        result.skip_reason = "stamp " + std::to_string(scan_radar.stamp_ns) +
+                             " ns is not after the previous scan's " +
+                             std::to_string(s.trajectory.poses().back().stamp_ns);
+        result.T_world_base_odometry = s.odometry.trajectory().empty()
+                                           ? s.T_world_base_initial
+                                           : s.odometry.trajectory().poses().back().T_world_body;
+        return result;
+    }
+
+    // 1. Doppler: ego-velocity, mask, the vehicle twist (eq. 2, 5, 7) and dead reckoning.
+    const Eigen::Vector3d gyro_base =
+        s.has_last ? Eigen::Vector3d(s.extrinsics.T_base_imu.linear() *
+                                     s.imu.MeanGyro(s.last_stamp_ns, scan_radar.stamp_ns))
+                   : Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    result.gyro_base_radps = gyro_base;
+    result.odometry = s.odometry.Register(scan_radar, gyro_base);
+    const odometry::OdometryStep &step = result.odometry;
+    result.T_world_base_odometry = step.T_world_base;
+    result.accepted = true;
+    result.dt_s = step.dt_s;
+    result.twist_base = {step.v_base_used_mps, step.omega_base_used_radps, step.covariance_used};
+    if (step.ego.valid) {
+        result.static_mask.resize(scan_radar.size());
+        for (Eigen::Index i = 0; i < scan_radar.size(); ++i)
+            result.static_mask(i) = step.ego.labels[i] == odometry::PointLabel::kStatic;
+    }
+    result.times.doppler_ms = MillisecondsSince(t_start);
+
+    // 2-3. The prior, then registration, refinement and map update.
+    const mapping::PointMask *mask =
+        s.config.use_mask && step.ego.valid ? &result.static_mask : nullptr;
+    if (s.mapper) {
+        const auto t_prior = Clock::now();
+        const double dt_s = s.scans_since_reset == 0 ? 0.1 : step.dt_s;
+        const mapping::MotionPrior prior = s.BuildPrior(step, scan_radar.stamp_ns, dt_s, result);
+        result.times.prior_ms = MillisecondsSince(t_prior);
+        result.registration = s.mapper->Register(scan_radar, prior, dt_s, mask);
+        result.times.mapper = result.registration.times;
+        result.T_world_base = result.registration.T_world_base;
+    } else {
+        result.T_world_base = step.T_world_base;
+    }
+    result.static_points_world = s.StaticPointsWorld(scan_radar, mask, result.T_world_base);
+    result.times.total_ms = MillisecondsSince(t_start);
+
+    s.trajectory.Append(scan_radar.stamp_ns, result.T_world_base);
+    s.T_prev2 = s.T_prev;
+    s.T_prev = result.T_world_base;
+    s.last_dt_s = s.scans_since_reset == 0 ? 0.0 : step.dt_s;
+    ++s.scans_since_reset;
+    s.has_last = true;
+    s.last_stamp_ns = scan_radar.stamp_ns;
+    // Samples before this scan are used; the one at its stamp still opens the next interval.
+    s.imu.DropUpTo(scan_radar.stamp_ns - 1);
+    return result;
+}
+
+void RadarFrontEnd::Reset(const Eigen::Isometry3d &T_world_base) {
+    State &s = *state_;
+    s.odometry = odometry::DopplerOdometry(OdometryConfigFor(s.config), s.extrinsics, s.geometry);
+    s.odometry.SetInitialPose(T_world_base);
+    if (s.mapper) s.mapper.emplace(s.config.mapper, s.extrinsics);
+    s.T_world_base_initial = T_world_base;
+    s.scans_since_reset = 0;
+    s.last_dt_s = 0.0;
+    s.has_last = false;
+    // The trajectory keeps its poses: stamps stay increasing across a reset.
+    if (!s.trajectory.empty()) s.last_stamp_ns = s.trajectory.poses().back().stamp_ns;
+}
+
+const Trajectory &RadarFrontEnd::trajectory() const { return state_->trajectory; }
+const mapping::LocalMap *RadarFrontEnd::local_map() const {
+    return state_->mapper ? &state_->mapper->local_map() : nullptr;
+}
+const FrontEndConfig &RadarFrontEnd::config() const { return state_->config; }
+bool RadarFrontEnd::has_last_stamp() const { return state_->has_last; }
+int64_t RadarFrontEnd::last_stamp_ns() const { return state_->last_stamp_ns; }
+
+}  // namespace dorado::frontend
