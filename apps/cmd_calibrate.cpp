@@ -6,13 +6,13 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "dorado/config/odometry_config.hpp"
 #include "dorado/core/lie.hpp"
 #include "dorado/core/time.hpp"
 #include "dorado/io/atomic_file.hpp"
 #include "dorado/io/dataset.hpp"
 #include "dorado/odometry/calibration.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
-#include "dorado/config/odometry_config.hpp"
 #include "progress.hpp"
 
 namespace dorado::apps {

@@ -26,10 +26,12 @@ struct MapOptions {
 frontend::FrontEndConfig FrontEndConfigOf(const MapOptions &opt,
                                           const dorado::config::MapCommandConfig &map_config) {
     frontend::FrontEndConfig config;
-    if (!opt.odometry_config.empty()) config.odometry = dorado::config::LoadOdometryConfig(opt.odometry_config);
+    if (!opt.odometry_config.empty())
+        config.odometry = dorado::config::LoadOdometryConfig(opt.odometry_config);
     config.mapper = map_config.mapper;
     config.prior_noise = map_config.prior;
-    if (!opt.refine.empty()) config.mapper.refinement = dorado::config::ParseRefinementKey(opt.refine, "--refine");
+    if (!opt.refine.empty())
+        config.mapper.refinement = dorado::config::ParseRefinementKey(opt.refine, "--refine");
     config.prior = dorado::config::ParsePriorKindKey(opt.prior, "--prior");
     config.use_mask = !opt.no_mask;
     return config;
@@ -38,12 +40,14 @@ frontend::FrontEndConfig FrontEndConfigOf(const MapOptions &opt,
 void RunMap(const MapOptions &opt) {
     const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset);
     const dorado::config::MapCommandConfig map_config =
-        opt.config.empty() ? dorado::config::MapCommandConfig{} : dorado::config::LoadMapConfig(opt.config);
+        opt.config.empty() ? dorado::config::MapCommandConfig{}
+                           : dorado::config::LoadMapConfig(opt.config);
     const frontend::FrontEndConfig config = FrontEndConfigOf(opt, map_config);
     const bool needs_imu = mapping::NeedsImu(config.prior);
     if (needs_imu && !HasImuTopic(dataset))
-        throw io::ConfigError(DatasetFile(dataset, opt.dataset) + ": key 'rosbag.imu_topic': --prior " +
-                              opt.prior + " needs an IMU topic");
+        throw io::ConfigError(DatasetFile(dataset, opt.dataset) +
+                              ": key 'rosbag.imu_topic': --prior " + opt.prior +
+                              " needs an IMU topic");
     frontend::RadarFrontEnd front_end(config, dataset.extrinsics, dataset.vehicle);
     io::MakeDirectories(opt.out);
 
@@ -64,7 +68,8 @@ void RunMap(const MapOptions &opt) {
         {"mask", config.use_mask},
         {"refinement", mapping::ToString(config.mapper.refinement)},
         {"method", mapping::ToString(config.mapper.method)},
-        {"stopped_early", guard.stopped().empty() ? nlohmann::json() : nlohmann::json(guard.stopped())},
+        {"stopped_early",
+         guard.stopped().empty() ? nlohmann::json() : nlohmann::json(guard.stopped())},
         {"scans", loop.scans()},
         {"scans_registered", loop.used()},
         {"scans_skipped", loop.scans() - loop.used()},

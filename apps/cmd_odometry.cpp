@@ -102,8 +102,9 @@ void RunOdometry(const OdometryOptions &opt) {
     config.run_mapper = false;
     if (!opt.config.empty()) config.odometry = dorado::config::LoadOdometryConfig(opt.config);
     if (!opt.rotation.empty())
-        throw io::ConfigError("--rotation is now --method (doppler | imu | imu+doppler; the old "
-                              "'imu' is 'imu+doppler', 'imu-only' is 'imu')");
+        throw io::ConfigError(
+            "--rotation is now --method (doppler | imu | imu+doppler; the old "
+            "'imu' is 'imu+doppler', 'imu-only' is 'imu')");
     if (!opt.method.empty())
         config.odometry.method = dorado::config::ParseOdometryMethodKey(opt.method, "--method");
     const odometry::OdometryMethod method = config.odometry.method;
@@ -137,8 +138,8 @@ void RunOdometry(const OdometryOptions &opt) {
                      inlier_ratios.push_back(static_cast<double>(step.ego.inliers) /
                                              step.ego.points_used);
                  }
-                 csv += CsvRow(step, event.scan.size(), result.gyro_base_radps,
-                               result.times.total_ms);
+                 csv +=
+                     CsvRow(step, event.scan.size(), result.gyro_base_radps, result.times.total_ms);
                  if (opt.masks) WriteMask(opt.out, event.scan_index, step);
              });
     guard.ThrowIfNoScanUsed(loop.used(), reader->source());

@@ -25,7 +25,9 @@ std::string Quoted(const std::string &text) {
 }
 
 // "bad fitness (rms 1.7 m)" -> "bad fitness": the reason's kind, for the counts.
-std::string Kind(const std::string &reason) { return reason.substr(0, reason.find(" (")); }
+std::string Kind(const std::string &reason) {
+    return reason.substr(0, reason.find(" ("));
+}
 
 }  // namespace
 
@@ -54,21 +56,22 @@ void MapOutputs::Add(const frontend::FrontEndResult &result) {
     }
     if (!result.prior_substitution.empty()) prior_substitutions_[result.prior_substitution]++;
     if (result.static_mask.size() == 0) ++unmasked_;
-    const std::pair<const char *, double> stages[] = {
-        {"doppler", t.doppler_ms},          {"prior", t.prior_ms},
-        {"preprocess", t.mapper.preprocess_ms}, {"registration", t.mapper.registration_ms},
-        {"refinement", t.mapper.refinement_ms}, {"map_update", t.mapper.map_update_ms},
-        {"total", t.total_ms}};
+    const std::pair<const char *, double> stages[] = {{"doppler", t.doppler_ms},
+                                                      {"prior", t.prior_ms},
+                                                      {"preprocess", t.mapper.preprocess_ms},
+                                                      {"registration", t.mapper.registration_ms},
+                                                      {"refinement", t.mapper.refinement_ms},
+                                                      {"map_update", t.mapper.map_update_ms},
+                                                      {"total", t.total_ms}};
     for (const auto &[name, ms] : stages) stage_ms_[name].push_back(ms);
     char row[512];
     std::snprintf(row, sizeof(row), "%.9f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%d,%.5f,%d,",
-                  NanosToSeconds(result.stamp_ns), t.doppler_ms, t.prior_ms,
-                  t.mapper.preprocess_ms, t.mapper.registration_ms, t.mapper.refinement_ms,
-                  t.mapper.map_update_ms, t.total_ms, r.correspondences, r.fitness_rms_m,
-                  r.fallback ? 1 : 0);
+                  NanosToSeconds(result.stamp_ns), t.doppler_ms, t.prior_ms, t.mapper.preprocess_ms,
+                  t.mapper.registration_ms, t.mapper.refinement_ms, t.mapper.map_update_ms,
+                  t.total_ms, r.correspondences, r.fitness_rms_m, r.fallback ? 1 : 0);
     csv_ += row + Quoted(r.fallback_reason) + ',' +
-            (result.prior_first_scan ? "first scan" : mapping::ToString(result.prior_used)) +
-            ',' + Quoted(result.prior_substitution) + '\n';
+            (result.prior_first_scan ? "first scan" : mapping::ToString(result.prior_used)) + ',' +
+            Quoted(result.prior_substitution) + '\n';
 }
 
 void MapOutputs::Write(const std::string &out_dir, const Trajectory &trajectory) const {

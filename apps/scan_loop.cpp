@@ -43,10 +43,10 @@ void ScanLoop::Warn(const io::DatasetEvent &event, const frontend::FrontEndResul
         skips_.WarnNoFinitePoints(event.scan_index, event.removed_nonfinite_points, done);
     }
     if (result.dt_s > 0.0 && gaps_.IsGap(result.dt_s)) {
-        skips_.Warn(event.scan_index, "gap",
-                    gaps_.Describe(result.dt_s) +
-                        (mapping ? "; the " + prior + " prior spans it"
-                                 : "; integrated this scan's twist over it"));
+        skips_.Warn(
+            event.scan_index, "gap",
+            gaps_.Describe(result.dt_s) + (mapping ? "; the " + prior + " prior spans it"
+                                                   : "; integrated this scan's twist over it"));
     }
 }
 

@@ -109,13 +109,17 @@ mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometrySt
     std::string why_not;
     const std::vector<ImuSample> &imu_samples = imu.samples();
     switch (kind) {
-        case PriorKind::kNone: built = mapping::PriorFromPreviousPose(T_prev, noise); break;
-        case PriorKind::kConstVel: built = constvel(); break;
+        case PriorKind::kNone:
+            built = mapping::PriorFromPreviousPose(T_prev, noise);
+            break;
+        case PriorKind::kConstVel:
+            built = constvel();
+            break;
         case PriorKind::kImu: {
             const Eigen::Vector3d v_world =
-                has_two ? Eigen::Vector3d((T_prev.translation() - T_prev2.translation()) /
-                                          last_dt_s)
-                        : Eigen::Vector3d::Zero();
+                has_two
+                    ? Eigen::Vector3d((T_prev.translation() - T_prev2.translation()) / last_dt_s)
+                    : Eigen::Vector3d::Zero();
             built = mapping::PriorFromImu(T_prev, v_world, imu_samples, last_stamp_ns, stamp_ns,
                                           extrinsics.T_base_imu, noise);
             if (!built) why_not = "no imu samples";
@@ -172,7 +176,9 @@ RadarFrontEnd::~RadarFrontEnd() = default;
 RadarFrontEnd::RadarFrontEnd(RadarFrontEnd &&) noexcept = default;
 RadarFrontEnd &RadarFrontEnd::operator=(RadarFrontEnd &&) noexcept = default;
 
-void RadarFrontEnd::AddImu(const ImuSample &sample) { state_->imu.Add(sample); }
+void RadarFrontEnd::AddImu(const ImuSample &sample) {
+    state_->imu.Add(sample);
+}
 
 FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
     State &s = *state_;
@@ -216,9 +222,9 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
     if (s.mapper) {
         const auto t_prior = Clock::now();
         const double dt_s = s.scans_since_reset == 0 ? 0.1 : step.dt_s;
-        const mapping::MotionPrior prior = s.BuildPrior(step, scan_radar.stamp_ns, dt_s, result);
+        result.prior = s.BuildPrior(step, scan_radar.stamp_ns, dt_s, result);
         result.times.prior_ms = MillisecondsSince(t_prior);
-        result.registration = s.mapper->Register(scan_radar, prior, dt_s, mask);
+        result.registration = s.mapper->Register(scan_radar, result.prior, dt_s, mask);
         result.times.mapper = result.registration.times;
         result.T_world_base = result.registration.T_world_base;
     } else {
@@ -252,12 +258,20 @@ void RadarFrontEnd::Reset(const Eigen::Isometry3d &T_world_base) {
     if (!s.trajectory.empty()) s.last_stamp_ns = s.trajectory.poses().back().stamp_ns;
 }
 
-const Trajectory &RadarFrontEnd::trajectory() const { return state_->trajectory; }
+const Trajectory &RadarFrontEnd::trajectory() const {
+    return state_->trajectory;
+}
 const mapping::LocalMap *RadarFrontEnd::local_map() const {
     return state_->mapper ? &state_->mapper->local_map() : nullptr;
 }
-const FrontEndConfig &RadarFrontEnd::config() const { return state_->config; }
-bool RadarFrontEnd::has_last_stamp() const { return state_->has_last; }
-int64_t RadarFrontEnd::last_stamp_ns() const { return state_->last_stamp_ns; }
+const FrontEndConfig &RadarFrontEnd::config() const {
+    return state_->config;
+}
+bool RadarFrontEnd::has_last_stamp() const {
+    return state_->has_last;
+}
+int64_t RadarFrontEnd::last_stamp_ns() const {
+    return state_->last_stamp_ns;
+}
 
 }  // namespace dorado::frontend

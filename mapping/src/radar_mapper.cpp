@@ -195,10 +195,9 @@ void RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
             association = Associate(source_base, result.T_world_base, map, config,
                                     result.threshold_m, config.max_registration_residuals);
         if (association.count < config.min_correspondences) break;
-        RefinementInput input{result.T_world_base, &prior,
-                              &association.matches, &doppler,
-                              T_world_base_last,   extrinsics.T_base_radar,
-                              dt_s};
+        RefinementInput input{
+            result.T_world_base,     &prior, &association.matches, &doppler, T_world_base_last,
+            extrinsics.T_base_radar, dt_s};
         const RefinementOutput refined = RefinePose(input, config);
         if (!refined.usable) break;
         result.T_world_base = refined.T_world_base;
@@ -217,8 +216,9 @@ void RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source_base,
     const PclAlignment aligned =
         AlignWithPcl(source_base, prior.T_world_base, map, config, result.threshold_m);
     result.times.alignment_ms = MillisecondsSince(t_reg);
-    const Association association = Associate(source_base, aligned.T_world_base, map, config,
-                                              result.threshold_m, config.max_registration_residuals);
+    const Association association =
+        Associate(source_base, aligned.T_world_base, map, config, result.threshold_m,
+                  config.max_registration_residuals);
     result.correspondences = association.count;
     result.fitness_rms_m = association.rms_m;
     result.observability = association.observability;

@@ -10,9 +10,12 @@ namespace dorado::odometry {
 
 const char *ToString(OdometryMethod method) {
     switch (method) {
-        case OdometryMethod::kDoppler: return "doppler";
-        case OdometryMethod::kImu: return "imu";
-        case OdometryMethod::kImuDoppler: return "imu+doppler";
+        case OdometryMethod::kDoppler:
+            return "doppler";
+        case OdometryMethod::kImu:
+            return "imu";
+        case OdometryMethod::kImuDoppler:
+            return "imu+doppler";
     }
     return "?";
 }

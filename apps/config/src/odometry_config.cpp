@@ -75,9 +75,10 @@ odometry::DopplerOdometryConfig LoadOdometryConfig(const std::string &yaml_path)
     ReadEgoVelocity(top.Child("ego_velocity"), config.ego_velocity);
     io::YamlSection odo = top.Child("odometry");
     if (odo.Has("rotation")) {
-        throw io::ConfigError(yaml_path +
-                              ": key 'odometry.rotation' is now 'odometry.method' (doppler | imu "
-                              "| imu+doppler; the old 'imu' is 'imu+doppler', 'imu-only' is 'imu')");
+        throw io::ConfigError(
+            yaml_path +
+            ": key 'odometry.rotation' is now 'odometry.method' (doppler | imu "
+            "| imu+doppler; the old 'imu' is 'imu+doppler', 'imu-only' is 'imu')");
     }
     if (odo.Has("method")) {
         config.method = ParseOdometryMethodKey(odo.Get<std::string>("method", ""),

@@ -47,8 +47,8 @@ struct FrontEndConfig {
 
 /// Milliseconds spent in each stage of Process.
 struct FrontEndTimes {
-    double doppler_ms = 0.0;  ///< ego-velocity + kinematic model
-    double prior_ms = 0.0;    ///< building the motion prior
+    double doppler_ms = 0.0;     ///< ego-velocity + kinematic model
+    double prior_ms = 0.0;       ///< building the motion prior
     mapping::StageTimes mapper;  ///< preprocess, registration, refinement, map update
     double total_ms = 0.0;
 };
@@ -83,6 +83,8 @@ struct FrontEndResult {
     mapping::PriorKind prior_used = mapping::PriorKind::kDoppler;
     bool prior_first_scan = false;
     std::string prior_substitution;
+    /// The prior handed to the mapper (when run_mapper).
+    mapping::MotionPrior prior;
     /// The mapper's result (when run_mapper): fallback, correspondences, fitness, ...
     mapping::RegistrationResult registration;
     /// The scan's static, in-range points in the world frame at the final pose (what the mapper

@@ -7,7 +7,8 @@
 
 namespace dorado::io {
 
-/// Writes x y z (float) columns as a binary PCD v0.7 file. Throws std::runtime_error naming the file.
+/// Writes x y z (float) columns as a binary PCD v0.7 file. Throws std::runtime_error naming the
+/// file.
 void WritePcd(const std::string &path, const Eigen::Matrix3Xd &points);
 
 /// Writes x y z (float) vertices as an ASCII PLY file. Throws std::runtime_error naming the file.

@@ -21,7 +21,8 @@ struct MapCommandConfig {
 [[nodiscard]] MapCommandConfig LoadMapConfig(const std::string &yaml_path);
 
 /// mapping::ParsePriorKind, throwing io::ConfigError naming `what` (a key or a flag).
-[[nodiscard]] mapping::PriorKind ParsePriorKindKey(const std::string &text, const std::string &what);
+[[nodiscard]] mapping::PriorKind ParsePriorKindKey(const std::string &text,
+                                                   const std::string &what);
 /// mapping::ParseRefinement, throwing io::ConfigError naming `what`.
 [[nodiscard]] mapping::Refinement ParseRefinementKey(const std::string &text,
                                                      const std::string &what);

@@ -1,0 +1,219 @@
+// RadarFrontEnd on synthetic radar scans of a known drive: the map's `doppler` prior is the
+// odometry's twist with every odometry setting (angular-rate prior, angular-rate limit,
+// zero-velocity update), substitutions are reported, and odometry-only mode is DopplerOdometry.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "dorado/core/lie.hpp"
+#include "dorado/frontend/radar_front_end.hpp"
+#include "dorado/odometry/kinematic_model.hpp"
+#include "synthetic_radar.hpp"
+
+namespace dorado::frontend {
+namespace {
+
+using mapping::PriorKind;
+using mapping::testing::MakeDrive;
+using mapping::testing::MakeStreetWorld;
+using mapping::testing::RadarSimOptions;
+using mapping::testing::SimulateScan;
+using mapping::testing::TruthSample;
+
+constexpr int64_t kDtNs = 100'000'000;  // 10 Hz
+
+Extrinsics Mount() {
+    Extrinsics e;
+    e.T_base_radar.translation() = Eigen::Vector3d(1.8, 0.1, 1.2);
+    e.T_base_radar.linear() = ExpSO3(Eigen::Vector3d(0.0, 0.0, 0.15));
+    return e;
+}
+
+VehicleGeometry Geometry() {
+    VehicleGeometry g;
+    g.half_wheelbase_m = 1.4;
+    return g;
+}
+
+// Scans of the street drive (static world, no movers), stamped at 10 Hz.
+std::vector<RadarScan> DriveScans(int count, bool stationary = false) {
+    static const Eigen::Matrix3Xd world = MakeStreetWorld(3);
+    std::vector<TruthSample> truth = MakeDrive(count, 0.1);
+    std::mt19937 rng(7);
+    RadarSimOptions sim;
+    sim.points_per_scan = 1500;
+    sim.ghost_fraction = 0.0;
+    std::vector<RadarScan> scans;
+    for (int k = 0; k < count; ++k) {
+        const Eigen::Vector3d v = stationary ? Eigen::Vector3d::Zero() : truth[k].v_base;
+        const Eigen::Vector3d w = stationary ? Eigen::Vector3d::Zero() : truth[k].omega_base;
+        RadarScan scan = SimulateScan(
+            world, stationary ? truth[0].T_world_base : truth[k].T_world_base, Mount().T_base_radar,
+            v, w, Eigen::Matrix3Xd(3, 0), Eigen::Vector3d::Zero(), sim, rng, nullptr);
+        scan.stamp_ns = 1'000'000'000 + k * kDtNs;
+        scans.push_back(std::move(scan));
+    }
+    return scans;
+}
+
+std::vector<FrontEndResult> RunFrontEnd(const FrontEndConfig &config,
+                                        const std::vector<RadarScan> &scans) {
+    RadarFrontEnd front_end(config, Mount(), Geometry());
+    std::vector<FrontEndResult> results;
+    for (const RadarScan &scan : scans) results.push_back(front_end.Process(scan));
+    return results;
+}
+
+double TranslationGap(const Eigen::Isometry3d &a, const Eigen::Isometry3d &b) {
+    return (a.translation() - b.translation()).norm();
+}
+
+TEST(RadarFrontEnd, DopplerPriorFollowsTheAngularRatePriorSetting) {
+    const auto scans = DriveScans(8);
+    const odometry::KinematicModel model(Mount(), Geometry());
+    double largest_difference = 0.0;
+    std::vector<Eigen::Vector3d> omega_by_setting[2];
+    for (const bool angular_rate_prior : {false, true}) {
+        FrontEndConfig config;
+        config.odometry.angular_rate_prior = angular_rate_prior;
+        const auto results = RunFrontEnd(config, scans);
+        for (std::size_t k = 1; k < results.size(); ++k) {
+            const FrontEndResult &r = results[k];
+            ASSERT_TRUE(r.accepted);
+            ASSERT_TRUE(r.odometry.ego.valid) << k;
+            ASSERT_EQ(r.prior_used, PriorKind::kDoppler) << r.prior_substitution;
+            // Independently: eq. (5) from this scan's radar velocity, or its plausible twist.
+            const odometry::VehicleMotion motion =
+                model.Motion(r.odometry.ego.v_radar_mps, r.odometry.ego.cov_v_radar);
+            Eigen::Vector3d v = motion.v_base_mps, w = motion.omega_base_radps;
+            if (angular_rate_prior) {
+                const odometry::VehicleTwist plausible = model.PlausibleTwist(motion);
+                v = plausible.v_base_mps;
+                w = plausible.omega_base_radps;
+            }
+            Vector6d xi;
+            xi << v * 0.1, w * 0.1;
+            const Eigen::Isometry3d expected = results[k - 1].T_world_base * ExpSE3(xi);
+            EXPECT_LT(TranslationGap(r.prior.T_world_base, expected), 1e-9) << k;
+            EXPECT_LT(RotationAngle(r.prior.T_world_base.linear().transpose() * expected.linear()),
+                      1e-9)
+                << k;
+            omega_by_setting[angular_rate_prior].push_back(w);
+        }
+    }
+    for (std::size_t k = 0; k < omega_by_setting[0].size(); ++k)
+        largest_difference =
+            std::max(largest_difference, (omega_by_setting[0][k] - omega_by_setting[1][k]).norm());
+    EXPECT_GT(largest_difference, 1e-6) << "the setting changed nothing: the test cannot tell";
+}
+
+TEST(RadarFrontEnd, DopplerPriorObeysTheAngularRateLimit) {
+    const auto scans = DriveScans(8);
+    FrontEndConfig config;
+    int substituted_default = 0, substituted_strict = 0;
+    for (const auto &r : RunFrontEnd(config, scans))
+        substituted_default += r.prior_used != PriorKind::kDoppler && !r.prior_first_scan;
+    // A limit below every yaw rate of the drive: each twist is implausible, the prior says so.
+    config.odometry.max_angular_rate_radps = 1e-4;
+    for (const auto &r : RunFrontEnd(config, scans)) {
+        if (r.prior_first_scan) continue;
+        EXPECT_EQ(r.prior_used, PriorKind::kConstVel);
+        EXPECT_NE(r.prior_substitution.find("max_angular_rate_radps"), std::string::npos)
+            << r.prior_substitution;
+        substituted_strict += r.prior_used == PriorKind::kConstVel;
+    }
+    EXPECT_EQ(substituted_default, 0);
+    EXPECT_EQ(substituted_strict, 7);
+}
+
+TEST(RadarFrontEnd, DopplerPriorHoldsStillOnStationaryScans) {
+    const auto scans = DriveScans(5, /*stationary=*/true);
+    for (const bool zero_velocity_update : {true, false}) {
+        FrontEndConfig config;
+        config.odometry.zero_velocity_update = zero_velocity_update;
+        const auto results = RunFrontEnd(config, scans);
+        for (std::size_t k = 1; k < results.size(); ++k) {
+            const FrontEndResult &r = results[k];
+            ASSERT_TRUE(r.odometry.ego.stationary) << "speed " << r.odometry.ego.v_radar_mps.norm();
+            const double moved = TranslationGap(r.prior.T_world_base, results[k - 1].T_world_base);
+            if (zero_velocity_update) {
+                EXPECT_EQ(moved, 0.0) << k;
+                EXPECT_EQ(r.twist_base.v_base_mps.norm(), 0.0);
+            } else {
+                // The measured (noisy, tiny) velocity is integrated instead.
+                EXPECT_GT(moved, 1e-7) << k;
+                EXPECT_NEAR(moved, 0.1 * r.twist_base.v_base_mps.norm(),
+                            1e-6);  // ExpSE3: V(w) v dt
+            }
+        }
+    }
+}
+
+TEST(RadarFrontEnd, ImuDopplerPriorUsesTheGyroOrSaysWhyNot) {
+    const auto scans = DriveScans(4);
+    const auto truth = MakeDrive(4, 0.1);
+    FrontEndConfig config;
+    config.prior = PriorKind::kImuDoppler;
+    {  // no IMU: constvel stands in, with the reason
+        const auto results = RunFrontEnd(config, scans);
+        for (std::size_t k = 1; k < results.size(); ++k) {
+            EXPECT_EQ(results[k].prior_used, PriorKind::kConstVel);
+            EXPECT_EQ(results[k].prior_substitution, "no imu samples");
+        }
+    }
+    RadarFrontEnd front_end(config, Mount(), Geometry());  // IMU frame = base frame
+    for (std::size_t k = 0; k < scans.size(); ++k) {
+        for (int j = 1; j <= 10 && k > 0; ++j) {
+            ImuSample s;
+            s.stamp_ns = scans[k - 1].stamp_ns + j * kDtNs / 10;
+            s.omega_imu_radps = truth[k - 1].omega_base;
+            s.accel_imu_mps2 = Eigen::Vector3d(0.0, 0.0, 9.81);
+            front_end.AddImu(s);
+        }
+        const FrontEndResult r = front_end.Process(scans[k]);
+        if (k == 0) continue;
+        EXPECT_EQ(r.prior_used, PriorKind::kImuDoppler) << r.prior_substitution;
+        EXPECT_LT((r.gyro_base_radps - truth[k - 1].omega_base).norm(), 1e-12);
+        EXPECT_LT((r.twist_base.omega_base_radps - truth[k - 1].omega_base).norm(), 1e-12);
+    }
+}
+
+TEST(RadarFrontEnd, StampsOutOfOrderAreSkippedAndReset) {
+    auto scans = DriveScans(4);
+    FrontEndConfig config;
+    RadarFrontEnd front_end(config, Mount(), Geometry());
+    EXPECT_TRUE(front_end.Process(scans[0]).accepted);
+    EXPECT_TRUE(front_end.Process(scans[1]).accepted);
+    const FrontEndResult repeated = front_end.Process(scans[1]);
+    EXPECT_FALSE(repeated.accepted);
+    EXPECT_NE(repeated.skip_reason.find("is not after the previous scan's"), std::string::npos);
+    EXPECT_EQ(front_end.trajectory().size(), 2u);
+    // After a reset the next scan starts a new map at the given pose, with no prior.
+    Eigen::Isometry3d T_start = Eigen::Isometry3d::Identity();
+    T_start.translation() = Eigen::Vector3d(100.0, 0.0, 0.0);
+    front_end.Reset(T_start);
+    EXPECT_FALSE(front_end.Process(scans[1]).accepted);  // still not after the last pose
+    const FrontEndResult first = front_end.Process(scans[2]);
+    ASSERT_TRUE(first.accepted);
+    EXPECT_TRUE(first.prior_first_scan);
+    EXPECT_TRUE(first.registration.first_scan);
+    EXPECT_LT(TranslationGap(first.T_world_base, T_start), 1e-12);
+    EXPECT_LT(TranslationGap(first.T_world_base_odometry, T_start), 1e-12);
+}
+
+TEST(RadarFrontEnd, OdometryOnlyIsTheDopplerOdometry) {
+    const auto scans = DriveScans(6);
+    FrontEndConfig config;
+    config.run_mapper = false;
+    const auto results = RunFrontEnd(config, scans);
+    odometry::DopplerOdometry odometry(config.odometry, Mount(), Geometry());
+    for (std::size_t k = 0; k < scans.size(); ++k) {
+        const odometry::OdometryStep step = odometry.Register(scans[k]);
+        EXPECT_LT(TranslationGap(results[k].T_world_base, step.T_world_base), 1e-12);
+        EXPECT_LT(TranslationGap(results[k].T_world_base_odometry, step.T_world_base), 1e-12);
+        EXPECT_EQ(results[k].static_mask.size(), scans[k].size());
+    }
+}
+
+}  // namespace
+}  // namespace dorado::frontend
