@@ -186,17 +186,6 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
     result.stamp_ns = scan_radar.stamp_ns;
     result.T_world_base = s.scans_since_reset > 0 ? s.T_prev : s.T_world_base_initial;
     const auto t_start = Clock::now();
-    // The one timestamp-order check (it also holds across a Reset).
-    if (!s.trajectory.empty() && scan_radar.stamp_ns <= s.trajectory.poses().back().stamp_ns) {
-        result.skip_reason = "stamp " + std::to_string(scan_radar.stamp_ns) +
-                             " ns is not after the previous scan's " +
-                             std::to_string(s.trajectory.poses().back().stamp_ns);
-        result.T_world_base_odometry = s.odometry.trajectory().empty()
-                                           ? s.T_world_base_initial
-                                           : s.odometry.trajectory().poses().back().T_world_body;
-        return result;
-    }
-
     // 1. Doppler: ego-velocity, mask, the vehicle twist (eq. 2, 5, 7) and dead reckoning.
     const Eigen::Vector3d gyro_base =
         s.has_last ? Eigen::Vector3d(s.extrinsics.T_base_imu.linear() *
@@ -206,6 +195,10 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
     result.odometry = s.odometry.Register(scan_radar, gyro_base);
     const odometry::OdometryStep &step = result.odometry;
     result.T_world_base_odometry = step.T_world_base;
+    if (!step.integrated) {  // the one timestamp-order check, the odometry's (across resets too)
+        result.skip_reason = step.skip_reason;
+        return result;
+    }
     result.accepted = true;
     result.dt_s = step.dt_s;
     result.twist_base = {step.v_base_used_mps, step.omega_base_used_radps, step.covariance_used};
@@ -247,15 +240,13 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
 
 void RadarFrontEnd::Reset(const Eigen::Isometry3d &T_world_base) {
     State &s = *state_;
-    s.odometry = odometry::DopplerOdometry(OdometryConfigFor(s.config), s.extrinsics, s.geometry);
-    s.odometry.SetInitialPose(T_world_base);
+    s.odometry.Restart(T_world_base);
     if (s.mapper) s.mapper.emplace(s.config.mapper, s.extrinsics);
     s.T_world_base_initial = T_world_base;
     s.scans_since_reset = 0;
     s.last_dt_s = 0.0;
     s.has_last = false;
     // The trajectory keeps its poses: stamps stay increasing across a reset.
-    if (!s.trajectory.empty()) s.last_stamp_ns = s.trajectory.poses().back().stamp_ns;
 }
 
 const Trajectory &RadarFrontEnd::trajectory() const {

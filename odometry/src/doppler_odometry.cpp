@@ -58,7 +58,9 @@ OdometryStep DopplerOdometry::Register(const RadarScan &scan_radar,
     }
     ChooseTwist(gyro_base_radps, step);
 
-    step.dt_s = has_last_stamp_ ? NanosToSeconds(scan_radar.stamp_ns - last_stamp_ns_) : 0.0;
+    step.dt_s =
+        has_last_stamp_ && !restarted_ ? NanosToSeconds(scan_radar.stamp_ns - last_stamp_ns_) : 0.0;
+    restarted_ = false;
     Vector6d xi;
     xi << step.v_base_used_mps * step.dt_s, step.omega_base_used_radps * step.dt_s;
     // Frames: T_world_base(k) = T_world_base(k-1) * T_base(k-1)_base(k); the increment is the
@@ -71,6 +73,14 @@ OdometryStep DopplerOdometry::Register(const RadarScan &scan_radar,
     has_last_stamp_ = true;
     last_stamp_ns_ = scan_radar.stamp_ns;
     return step;
+}
+
+void DopplerOdometry::Restart(const Eigen::Isometry3d &T_world_base) {
+    T_world_base_ = T_world_base;
+    restarted_ = true;
+    has_last_twist_ = false;
+    last_v_base_.setZero();
+    last_omega_base_.setZero();
 }
 
 void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, OdometryStep &step) {

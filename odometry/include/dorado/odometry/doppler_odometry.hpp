@@ -75,8 +75,8 @@ class DopplerOdometry {
 
     /// Processes one scan. `gyro_base_radps` is the mean gyro rate over the interval since the
     /// previous scan, rotated into the base frame (NaN when there is no IMU); it is needed only
-    /// for OdometryMethod::kImu / kImuDoppler. The pose integrates the twist over the real time since
-    /// the previously integrated scan, so dropped scans lose no time:
+    /// for OdometryMethod::kImu / kImuDoppler. The pose integrates the twist over the real time
+    /// since the previously integrated scan, so dropped scans lose no time:
     ///   T_world_base(k) = T_world_base(k-1) * ExpSE3([v_base; omega_base] * dt)
     /// (exact for a twist constant over the interval). Never throws on bad data.
     OdometryStep Register(const RadarScan &scan_radar,
@@ -86,6 +86,9 @@ class DopplerOdometry {
     [[nodiscard]] const Trajectory &trajectory() const { return trajectory_; }
     [[nodiscard]] const KinematicModel &model() const { return model_; }
     void SetInitialPose(const Eigen::Isometry3d &T_world_base) { T_world_base_ = T_world_base; }
+    /// Starts over at T_world_base: the next scan integrates nothing (as a first scan) and no
+    /// earlier twist is reused, but stamps must still come after the last scan's.
+    void Restart(const Eigen::Isometry3d &T_world_base);
 
   private:
     // Chooses the twist to integrate for this scan (fills step.*_used and the fallback fields).
@@ -97,6 +100,7 @@ class DopplerOdometry {
     Trajectory trajectory_;
     Eigen::Isometry3d T_world_base_ = Eigen::Isometry3d::Identity();
     bool has_last_stamp_ = false;
+    bool restarted_ = false;  ///< the next scan integrates nothing
     int64_t last_stamp_ns_ = 0;
     bool has_last_twist_ = false;
     Eigen::Vector3d last_v_base_ = Eigen::Vector3d::Zero();
