@@ -37,8 +37,7 @@ class SkipLog {
             for (const auto &[kind, count] : *counts) {
                 if (count > kPrintedPerKind)
                     std::cerr << "dorado: warning: " << kind << ": " << count
-                              << " scans in all (the first " << kPrintedPerKind
-                              << " printed)\n";
+                              << " scans in all (the first " << kPrintedPerKind << " printed)\n";
             }
         }
     }

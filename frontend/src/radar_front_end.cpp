@@ -256,6 +256,8 @@ const Trajectory &RadarFrontEnd::trajectory() const { return state_->trajectory;
 const mapping::LocalMap *RadarFrontEnd::local_map() const {
     return state_->mapper ? &state_->mapper->local_map() : nullptr;
 }
+void RadarFrontEnd::SetPrior(mapping::PriorKind prior) { state_->config.prior = prior; }
+
 const FrontEndConfig &RadarFrontEnd::config() const { return state_->config; }
 bool RadarFrontEnd::has_last_stamp() const { return state_->has_last; }
 int64_t RadarFrontEnd::last_stamp_ns() const { return state_->last_stamp_ns; }

@@ -18,8 +18,7 @@ double MillisecondsSince(std::chrono::steady_clock::time_point t) {
 }
 
 geometry_msgs::TransformStamped TransformOf(const std_msgs::Header &header,
-                                            const std::string &child,
-                                            const Eigen::Isometry3d &T) {
+                                            const std::string &child, const Eigen::Isometry3d &T) {
     geometry_msgs::TransformStamped tf;
     tf.header = header;
     tf.child_frame_id = child;
@@ -65,7 +64,9 @@ DoradoNode::DoradoNode(ros::NodeHandle &node, NodeSettings settings)
              settings_.needs_imu ? ("; IMU " + settings_.imu_topic).c_str() : "");
 }
 
-DoradoNode::~DoradoNode() { Shutdown(); }
+DoradoNode::~DoradoNode() {
+    Shutdown();
+}
 
 void DoradoNode::OnCloud(const sensor_msgs::PointCloud2ConstPtr &msg) {
     const Pending pending{msg, Clock::now()};
@@ -116,10 +117,11 @@ void DoradoNode::Work() {
 // Caller holds mutex_ (or is the worker, which owns the stamps and the front end).
 void DoradoNode::Drop(const std::string &cause, const std::string &detail) {
     if (faults_.Count(cause, detail))
-        ROS_WARN("dorado_ros: %s: dropped a scan on %s (%s); further ones are counted and "
-                 "summarised every %.0f s",
-                 cause.c_str(), settings_.input_topic.c_str(), detail.c_str(),
-                 settings_.report_period_s);
+        ROS_WARN(
+            "dorado_ros: %s: dropped a scan on %s (%s); further ones are counted and "
+            "summarised every %.0f s",
+            cause.c_str(), settings_.input_topic.c_str(), detail.c_str(),
+            settings_.report_period_s);
 }
 
 void DoradoNode::Handle(const Pending &pending) {
@@ -143,20 +145,22 @@ void DoradoNode::Handle(const Pending &pending) {
     const GapVerdict gap = stamps_.Accept(stamp_ns);
     if (gap == GapVerdict::kReset) {
         ++resets_;
-        const Eigen::Isometry3d T_world_base = front_end_.trajectory().empty()
-                                                   ? T_world_base_initial_
-                                                   : front_end_.trajectory().poses().back().T_world_body;
-        ROS_WARN("dorado_ros: %.2f s without a scan on %s (max_gap_s %.2f): starting over at the "
-                 "last pose (a new map, no prior)",
-                 stamps_.last_interval_s(), settings_.input_topic.c_str(), settings_.gaps.max_gap_s);
+        const Eigen::Isometry3d T_world_base =
+            front_end_.trajectory().empty() ? T_world_base_initial_
+                                            : front_end_.trajectory().poses().back().T_world_body;
+        ROS_WARN(
+            "dorado_ros: %.2f s without a scan on %s (max_gap_s %.2f): starting over at the "
+            "last pose (a new map, no prior)",
+            stamps_.last_interval_s(), settings_.input_topic.c_str(), settings_.gaps.max_gap_s);
         front_end_.Reset(T_world_base);
     } else if (gap == GapVerdict::kIntegrate &&
                warnings_.Count("gap integrated over", std::to_string(stamps_.last_interval_s()))) {
-        ROS_WARN("dorado_ros: %.2f s since the previous scan (ordinary %.2f s): integrated over "
-                 "the real interval; further gaps are summarised",
-                 stamps_.last_interval_s(), stamps_.ordinary_interval_s());
+        ROS_WARN(
+            "dorado_ros: %.2f s since the previous scan (ordinary %.2f s): integrated over "
+            "the real interval; further gaps are summarised",
+            stamps_.last_interval_s(), stamps_.ordinary_interval_s());
     }
-    if (settings_.needs_imu) FeedImu(stamp_ns);
+    if (settings_.needs_imu) WatchImu(FeedImu(stamp_ns), stamp_ns);
 
     const frontend::FrontEndResult result = front_end_.Process(scan);
     if (!result.accepted) {
@@ -172,12 +176,13 @@ void DoradoNode::Handle(const Pending &pending) {
     latency_.Add(MillisecondsSince(pending.arrival));
     if (settings_.verbose) {
         const auto &ego = result.odometry.ego;
-        ROS_INFO("dorado_ros: scan %.3f: %d / %d inliers, v_radar (%.3f %.3f %.3f) m/s, omega "
-                 "(%.4f %.4f %.4f) rad/s, %.1f ms",
-                 msg.header.stamp.toSec(), ego.inliers, static_cast<int>(scan.size()),
-                 ego.v_radar_mps.x(), ego.v_radar_mps.y(), ego.v_radar_mps.z(),
-                 result.twist_base.omega_base_radps.x(), result.twist_base.omega_base_radps.y(),
-                 result.twist_base.omega_base_radps.z(), result.times.total_ms);
+        ROS_INFO(
+            "dorado_ros: scan %.3f: %d / %d inliers, v_radar (%.3f %.3f %.3f) m/s, omega "
+            "(%.4f %.4f %.4f) rad/s, %.1f ms",
+            msg.header.stamp.toSec(), ego.inliers, static_cast<int>(scan.size()),
+            ego.v_radar_mps.x(), ego.v_radar_mps.y(), ego.v_radar_mps.z(),
+            result.twist_base.omega_base_radps.x(), result.twist_base.omega_base_radps.y(),
+            result.twist_base.omega_base_radps.z(), result.times.total_ms);
     }
 }
 
@@ -189,50 +194,81 @@ bool DoradoNode::Decode(const sensor_msgs::PointCloud2 &msg, RadarScan &scan) {
         // One clear error per cause (a wrong field map fails every message the same way).
         std::lock_guard<std::mutex> lock(mutex_);
         if (faults_.Count(std::string("undecodable: ") + e.what(), e.what()))
-            ROS_ERROR("dorado_ros: topic %s: %s; its fields: %s. Every scan like it is dropped "
-                      "(counted, summarised); fix `fields` in the dataset YAML (%s)",
-                      settings_.input_topic.c_str(), e.what(),
-                      io::DescribeFields(ViewOf(msg).fields).c_str(),
-                      settings_.dataset.config_path.empty() ? "parameter config"
-                                                            : settings_.dataset.config_path.c_str());
+            ROS_ERROR(
+                "dorado_ros: topic %s: %s; its fields: %s. Every scan like it is dropped "
+                "(counted, summarised); fix `fields` in the dataset YAML (%s)",
+                settings_.input_topic.c_str(), e.what(),
+                io::DescribeFields(ViewOf(msg).fields).c_str(),
+                settings_.dataset.config_path.empty() ? "parameter config"
+                                                      : settings_.dataset.config_path.c_str());
         return false;
     }
 }
 
 // Hands the front end the IMU samples up to the scan, waiting a little for the IMU to catch up
-// (not while it is known to be stalled).
-void DoradoNode::FeedImu(int64_t stamp_ns) {
+// (not while it is known to be stalled). Returns false when it has not reached the scan's stamp.
+bool DoradoNode::FeedImu(int64_t stamp_ns) {
     std::vector<ImuSample> samples;
+    bool current = false;
     {
         std::unique_lock<std::mutex> lock(mutex_);
-        if (!prior_substituted_) {
+        if (!imu_stalled_) {
             wake_.wait_for(lock, std::chrono::duration<double>(settings_.imu_wait_s),
                            [&] { return stop_ || last_imu_stamp_ns_ >= stamp_ns; });
         }
+        current = last_imu_stamp_ns_ >= stamp_ns;
         while (!imu_.empty() && imu_.front().stamp_ns <= stamp_ns) {
             samples.push_back(imu_.front());
             imu_.pop_front();
         }
     }
     for (const ImuSample &s : samples) front_end_.AddImu(s);
+    return current;
 }
 
-// An IMU that stalls while the prior needs it: the front end falls back, the node says so once
-// (and once more when it is back).
-void DoradoNode::ReportPrior(const frontend::FrontEndResult &result) {
-    const bool substituted = !result.prior_substitution.empty() && !result.prior_first_scan;
-    if (substituted && !prior_substituted_) {
-        warnings_.Count("prior substituted", result.prior_substitution);
-        ROS_WARN("dorado_ros: the %s prior needs %s, which has stalled: %s (until it resumes)",
-                 mapping::ToString(result.prior_requested), settings_.imu_topic.c_str(),
-                 result.prior_substitution.c_str());
-    } else if (substituted) {
-        warnings_.Count("prior substituted", result.prior_substitution);
-    } else if (prior_substituted_) {
-        ROS_INFO("dorado_ros: %s is back: the %s prior again", settings_.imu_topic.c_str(),
-                 mapping::ToString(result.prior_requested));
+// An IMU that stalls while the prior needs it: the Doppler prior stands in, said once (and once
+// more when the IMU is back).
+void DoradoNode::WatchImu(bool imu_current, int64_t stamp_ns) {
+    const bool prior_needs_imu =
+        settings_.front_end.run_mapper && mapping::NeedsImu(settings_.front_end.prior);
+    if (!imu_current && !imu_stalled_) {
+        imu_stalled_ = true;
+        if (prior_needs_imu) front_end_.SetPrior(mapping::PriorKind::kDoppler);
+        int64_t last_ns;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            last_ns = last_imu_stamp_ns_;
+        }
+        warnings_.Count("imu stalled", settings_.imu_topic);
+        ROS_WARN("dorado_ros: %s has stalled (%s): %s until it resumes",
+                 settings_.imu_topic.c_str(),
+                 last_ns == 0 ? "no sample yet"
+                              : ("last sample " +
+                                 std::to_string(static_cast<double>(stamp_ns - last_ns) * 1e-9) +
+                                 " s before the scan")
+                                    .c_str(),
+                 prior_needs_imu ? "the doppler prior stands in" : "the odometry falls back");
+    } else if (imu_current && imu_stalled_) {
+        imu_stalled_ = false;
+        if (prior_needs_imu) front_end_.SetPrior(settings_.front_end.prior);
+        ROS_INFO("dorado_ros: %s is back%s", settings_.imu_topic.c_str(),
+                 prior_needs_imu
+                     ? (": the " + std::string(mapping::ToString(settings_.front_end.prior)) +
+                        " prior again")
+                           .c_str()
+                     : "");
     }
-    prior_substituted_ = substituted;
+}
+
+// The front end's own substitutions (no valid Doppler velocity: constvel) and odometry
+// fallbacks: the first of each logged, the rest summarised.
+void DoradoNode::ReportPrior(const frontend::FrontEndResult &result) {
+    if (!result.prior_substitution.empty() && !result.prior_first_scan &&
+        warnings_.Count("prior substituted", result.prior_substitution))
+        ROS_WARN("dorado_ros: the %s prior could not be built (%s): the %s prior stood in "
+                 "(further ones are summarised)",
+                 mapping::ToString(result.prior_requested), result.prior_substitution.c_str(),
+                 mapping::ToString(result.prior_used));
     if (result.odometry.used_fallback &&
         warnings_.Count("odometry fallback", result.odometry.fallback_reason))
         ROS_WARN("dorado_ros: odometry fell back: %s (further ones are summarised)",
@@ -335,7 +371,8 @@ void DoradoNode::WriteSummary() const {
     std::ofstream out(settings_.summary_file);
     out << summary.dump(2) << '\n';
     if (!out)
-        std::fprintf(stderr, "dorado_ros: error: cannot write %s\n", settings_.summary_file.c_str());
+        std::fprintf(stderr, "dorado_ros: error: cannot write %s\n",
+                     settings_.summary_file.c_str());
 }
 
 }  // namespace dorado::ros_node

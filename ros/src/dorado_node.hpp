@@ -45,7 +45,8 @@ class DoradoNode {
     void Work();
     void Handle(const Pending &pending);
     bool Decode(const sensor_msgs::PointCloud2 &msg, RadarScan &scan);
-    void FeedImu(int64_t stamp_ns);
+    bool FeedImu(int64_t stamp_ns);
+    void WatchImu(bool imu_current, int64_t stamp_ns);
     void Publish(const std_msgs::Header &header, const RadarScan &scan,
                  const frontend::FrontEndResult &result);
     void ReportPrior(const frontend::FrontEndResult &result);
@@ -56,8 +57,8 @@ class DoradoNode {
     NodeSettings settings_;
     frontend::RadarFrontEnd front_end_;
     StampGuard stamps_;
-    FaultLog faults_;     ///< dropped scans, by cause
-    FaultLog warnings_;   ///< scans used despite a fault (a gap, a prior substitution)
+    FaultLog faults_;    ///< dropped scans, by cause
+    FaultLog warnings_;  ///< scans used despite a fault (a gap, a prior substitution)
     LatencyStats latency_;
     PoseCovariance pose_covariance_;
     Eigen::Isometry3d T_world_base_initial_;
@@ -73,7 +74,7 @@ class DoradoNode {
     int64_t last_imu_stamp_ns_ = 0;
     bool stop_ = false;
     long long received_ = 0, processed_ = 0, published_ = 0, resets_ = 0;
-    bool prior_substituted_ = false;
+    bool imu_stalled_ = false;  ///< worker only
     Clock::time_point last_report_, last_local_map_;
     std::thread worker_;
 };

@@ -17,10 +17,10 @@ class NodeHandle;
 namespace dorado::ros_node {
 
 struct NodeSettings {
-    io::DatasetConfig dataset;          ///< field map, extrinsics, vehicle (the `config` YAML)
+    io::DatasetConfig dataset;           ///< field map, extrinsics, vehicle (the `config` YAML)
     frontend::FrontEndConfig front_end;  ///< odometry_config + mapper_config + the paper's keys
-    std::string input_topic;            ///< PointCloud2
-    std::string imu_topic;              ///< sensor_msgs/Imu, subscribed when the prior needs it
+    std::string input_topic;             ///< PointCloud2
+    std::string imu_topic;               ///< sensor_msgs/Imu, subscribed when the prior needs it
     bool needs_imu = false;
     std::string tf_from_frame = "odom";
     std::string tf_to_frame = "base_link";
@@ -30,9 +30,9 @@ struct NodeSettings {
     /// tf_to_frame in dorado's base frame (the paper's base_link is not on the ICR axis).
     Eigen::Isometry3d T_base_child = Eigen::Isometry3d::Identity();
     bool verbose = false;
-    int queue_size = 2;             ///< scans waiting; a scan overtaken beyond it is dropped (late)
+    int queue_size = 2;  ///< scans waiting; a scan overtaken beyond it is dropped (late)
     GapPolicy gaps;
-    double imu_wait_s = 0.05;       ///< how long a scan waits for the IMU to catch up
+    double imu_wait_s = 0.05;         ///< how long a scan waits for the IMU to catch up
     double local_map_period_s = 1.0;  ///< /dorado/local_map at most this often (>= 1 s)
     double report_period_s = 5.0;     ///< summarised warnings at most this often
     std::string summary_file;         ///< JSON counts and latencies written at exit (optional)

@@ -3,9 +3,9 @@
 /// Between ROS messages and dorado's types: a PointCloud2's bytes as dorado_io's decoder reads
 /// them (the bag reader's decoder, not a second one), point clouds and odometry to publish.
 
-#include <Eigen/Geometry>
 #include <nav_msgs/Odometry.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <Eigen/Geometry>
 
 #include "dorado/core/radar_scan.hpp"
 #include "dorado/io/pointcloud_decoder.hpp"

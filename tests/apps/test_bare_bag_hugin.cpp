@@ -34,8 +34,9 @@ TEST(BareBagHugin, TheLaunchFileMountGivesTheTrueVelocity) {
                              "/tests/apps/make_hugin_mount_bag.py " + dir.string();
     ASSERT_EQ(std::system(make.c_str()), 0) << make;
     const fs::path out = dir / "out";
-    const std::string run = std::string(DORADO_BINARY) + " odometry " + (dir / "data.bag").string() +
-                            " --out " + out.string() + " 2> " + (dir / "stderr.txt").string();
+    const std::string run = std::string(DORADO_BINARY) + " odometry " +
+                            (dir / "data.bag").string() + " --out " + out.string() + " 2> " +
+                            (dir / "stderr.txt").string();
     ASSERT_EQ(std::system(run.c_str()), 0) << run;
 
     // The truth (make_hugin_mount_bag.py): v_base = (1.5, 0, 0), omega = (0, 0.05, 0.3).

@@ -202,7 +202,7 @@ TEST_F(CmdOdometry, AWrongFieldMapIsSummarisedNotOneLinePerScan) {
               1);
     const auto lines = std::count(err.begin(), err.end(), '\n');
     EXPECT_LE(lines, 8) << err;
-    EXPECT_NE(err.find("missing channel 'dopler'"), std::string::npos) << err;
+    EXPECT_NE(err.find("missing field 'dopler'"), std::string::npos) << err;
     EXPECT_NE(err.find("unreadable scan: 60 scans in all"), std::string::npos) << err;
     EXPECT_NE(err.find("dorado: error:"), std::string::npos) << err;
 }

@@ -63,6 +63,29 @@ def rewrite_bag(src, dst, duplicates, older, seconds):
     return index
 
 
+def cut_bag(src, dst, seconds, drop_scans=(), imu_until=None, imu_topic="/imu/data"):
+    """The first `seconds` of src: radar scans except those in the `drop_scans` (start, end)
+    windows [s], and the IMU until `imu_until` [s] (none when None). Returns the scans kept."""
+    import rosbag
+    topics = [RADAR] + ([imu_topic] if imu_until is not None else [])
+    kept = 0
+    with rosbag.Bag(src) as bag_in, rosbag.Bag(dst, "w") as bag_out:
+        start = None
+        for topic, msg, t in bag_in.read_messages(topics=topics):
+            start = start or t
+            age = (t - start).to_sec()
+            if age > seconds:
+                break
+            if topic == RADAR:
+                if any(a < age < b for a, b in drop_scans):
+                    continue
+                kept += 1
+            elif age > imu_until:
+                continue
+            bag_out.write(topic, msg, t)
+    return kept
+
+
 class DoradoRos(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -157,6 +180,36 @@ class DoradoRos(unittest.TestCase):
         dp, dq, missing = max_difference(self.recorder.messages["/doppler_odom"], self.odom)
         self.assertEqual(missing, 0)
         self.assertLess(dp, 1e-6)
+
+    def test_gaps_are_integrated_over_or_reset(self):
+        bag = os.path.join(self.dir, "gaps.bag")
+        # 0.57 s without a scan (> 5 intervals of 67 ms: integrated), then 1.27 s (> max_gap_s 1).
+        scans = cut_bag(self.bag, bag, 4, drop_scans=[(1.0, 1.5), (2.0, 3.2)])
+        summary, err = self.run_node("gaps", bag, 2, expect=scans, queue_size=1000)
+        print(f"gaps: {scans} scans, resets {summary['resets']}, warnings {summary['warnings']}")
+        self.assertEqual(summary["published"], scans)
+        self.assertEqual(summary["resets"], 1)
+        self.assertEqual(summary["warnings"].get("gap integrated over"), 1)
+        self.assertEqual(err.count("starting over at the last pose"), 1, err)
+        odom = self.recorder.messages["/doppler_odom"]
+        # Before the reset the poses are the command line's; after it they go on from the last.
+        dp, _, _ = max_difference([m for m in odom if m[0] < min(self.odom) + 2.0e9], self.odom)
+        self.assertLess(dp, 0.05)
+        self.assertTrue(all(math.isfinite(v) for m in odom for v in m[1]))
+
+    def test_an_imu_stall_falls_back_to_doppler_once(self):
+        bag = os.path.join(self.dir, "imu_stall.bag")
+        scans = cut_bag(self.bag, bag, 3, imu_until=1.5)
+        summary, err = self.run_node("imu_stall", bag, 1, ("/dorado/map_odom", "/doppler_odom"),
+                                     expect=scans, mapper="true", prior="imu", queue_size=1000)
+        print(f"imu stall: {scans} scans, warnings {summary['warnings']}")
+        self.assertEqual(summary["published"], scans)
+        self.assertEqual(summary["warnings"].get("imu stalled"), 1)
+        self.assertEqual(err.count("has stalled"), 1, err)
+        self.assertIn("the doppler prior stands in", err)
+        mapped = self.recorder.messages["/dorado/map_odom"]
+        worst = max(math.dist(pose[:3], self.map[stamp][:3]) for stamp, pose, _, _ in mapped)
+        self.assertLess(worst, 0.5)
 
     def test_a_missing_field_is_one_clear_error(self):
         with open(self.dataset) as f:

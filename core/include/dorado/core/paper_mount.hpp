@@ -27,8 +27,8 @@ struct PaperMountParameters {
     /// sensor_pose x y z: the radar in the paper's base_link [m].
     Eigen::Vector3d sensor_position_m{0.85, 0.22, 0.17};
     /// sensor_pose qx qy qz qw: R_baselink_radar before the calibration.
-    Eigen::Quaterniond sensor_rotation{0.011519528015294512, 0.6857716483037417,
-                                       0.7276229492792916, 0.012222542255175764};  // w, x, y, z
+    Eigen::Quaterniond sensor_rotation{0.011519528015294512, 0.6857716483037417, 0.7276229492792916,
+                                       0.012222542255175764};  // w, x, y, z
     /// calib_rot qx qy qz qw: the calibrated correction, applied after sensor_rotation.
     Eigen::Quaterniond calib_rotation{0.99978789, -0.00295514, -0.01095426, 0.01718881};
     /// sensor_to_icr_x: the ICR's X minus the radar's X [m] (negative: the ICR is behind).
