@@ -80,6 +80,7 @@ void DoradoNode::OnCloud(const sensor_msgs::PointCloud2ConstPtr &msg) {
                  " s overtaken while " + std::to_string(queue_.size()) +
                  " scans waited (queue_size " + std::to_string(settings_.queue_size) + ")");
         queue_.pop_front();
+        ++late_drops_;
     }
     queue_.push_back(pending);
     wake_.notify_all();
@@ -142,7 +143,13 @@ void DoradoNode::Handle(const Pending &pending) {
     scan.frame_id = msg.header.frame_id;
     io::RemoveNonFinitePoints(scan);
 
-    const GapVerdict gap = stamps_.Accept(stamp_ns);
+    bool dropped_since_last;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        dropped_since_last = late_drops_ != late_drops_seen_;
+        late_drops_seen_ = late_drops_;
+    }
+    const GapVerdict gap = stamps_.Accept(stamp_ns, dropped_since_last);
     if (gap == GapVerdict::kReset) {
         ++resets_;
         const Eigen::Isometry3d T_world_base =

@@ -31,12 +31,12 @@ StampVerdict StampGuard::Check(int64_t stamp_ns) const {
     return stamp_ns == last_ns_ ? StampVerdict::kDuplicate : StampVerdict::kOutOfOrder;
 }
 
-GapVerdict StampGuard::Accept(int64_t stamp_ns) {
+GapVerdict StampGuard::Accept(int64_t stamp_ns, bool dropped_since_last) {
     const bool first = !has_last_;
     last_interval_s_ = first ? 0.0 : static_cast<double>(stamp_ns - last_ns_) * 1e-9;
     has_last_ = true;
     last_ns_ = stamp_ns;
-    if (first) return GapVerdict::kNone;
+    if (first || dropped_since_last) return GapVerdict::kNone;
     if (last_interval_s_ > policy_.max_gap_s) return GapVerdict::kReset;
     if (ordinary_s_ > 0.0 && last_interval_s_ > policy_.report_factor * ordinary_s_)
         return GapVerdict::kIntegrate;

@@ -52,8 +52,9 @@ class StampGuard {
 
     [[nodiscard]] StampVerdict Check(int64_t stamp_ns) const;
     /// The gap before an accepted scan at stamp_ns (call after Check said kAccept); updates the
-    /// ordinary interval when it is not a gap.
-    GapVerdict Accept(int64_t stamp_ns);
+    /// ordinary interval when it is not a gap. `dropped_since_last`: the node itself dropped
+    /// scans in between (late), so the sensor did not stall: never a reset, never reported.
+    GapVerdict Accept(int64_t stamp_ns, bool dropped_since_last = false);
     [[nodiscard]] double last_interval_s() const { return last_interval_s_; }
     [[nodiscard]] double ordinary_interval_s() const { return ordinary_s_; }
 

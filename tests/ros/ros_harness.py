@@ -148,7 +148,8 @@ def run_node_on_bag(graph, recorder, dorado_ros, params, bag, rate, name, topics
     """Starts dorado_ros, waits until it is connected, plays the bag at `rate`, waits for the last
     messages (`expect` of them on topics[0], or none new for 3 s), stops the node with SIGINT. Returns (exit code, node stderr text)."""
     recorder.clear()
-    node = graph.start(node_command(dorado_ros, params), name)
+    # A node name per run: private parameters stay on the parameter server after a node exits.
+    node = graph.start(node_command(dorado_ros, params) + [f"__name:=dorado_ros_{name}"], name)
     input_topic = params.get("input_topic", "/hugin_raf_1/radar_data")
     graph.wait_for(lambda: node.poll() is None and graph.subscribes(input_topic)
                    and recorder.connected(topics), 30, f"{name}: dorado_ros did not connect")

@@ -161,10 +161,20 @@ class DoradoRos(unittest.TestCase):
         self.assertIn("dropped: " + ("none" if dropped == 0 else "late"), err)
         if dropped:
             self.assertIn("late (processing behind): dropped a scan", err)
-        # Sane: every pose within 1 m of the 1x map at the same stamp (drops widen the intervals).
-        worst = max(math.dist(pose[:3], self.map[stamp][:3]) for stamp, pose, _, _ in mapped)
-        print(f"5x: worst distance to the 1x map trajectory {worst:.3f} m")
-        self.assertLess(worst, 1.0)
+        # Sane: finite, no reset (the gaps the drops make are integrated over, not a stall), and
+        # near the 1x map: within 0.2 m + 20 % of the path so far (a scan's twist integrated over
+        # the dropped scans' intervals drifts; on a quiet machine nothing is dropped).
+        self.assertEqual(summary["resets"], 0)
+        stamps = sorted(self.map)
+        path, travelled = 0.0, {stamps[0]: 0.0}
+        for a, b in zip(stamps, stamps[1:]):
+            path += math.dist(self.map[a][:3], self.map[b][:3])
+            travelled[b] = path
+        worst = max(math.dist(pose[:3], self.map[stamp][:3]) - 0.2 * travelled[stamp]
+                    for stamp, pose, _, _ in mapped)
+        print(f"5x: worst distance to the 1x map trajectory beyond 20 % of the path {worst:.3f} m")
+        self.assertTrue(all(math.isfinite(v) for m in mapped for v in m[1]))
+        self.assertLess(worst, 0.2)
 
     def test_out_of_order_and_duplicate_stamps_are_dropped_and_reported(self):
         bag = os.path.join(self.dir, "faults.bag")
@@ -192,9 +202,14 @@ class DoradoRos(unittest.TestCase):
         self.assertEqual(summary["warnings"].get("gap integrated over"), 1)
         self.assertEqual(err.count("starting over at the last pose"), 1, err)
         odom = self.recorder.messages["/doppler_odom"]
-        # Before the reset the poses are the command line's; after it they go on from the last.
-        dp, _, _ = max_difference([m for m in odom if m[0] < min(self.odom) + 2.0e9], self.odom)
-        self.assertLess(dp, 0.05)
+        # Before the first gap the poses are the command line's; across it one scan's twist is
+        # integrated over 0.57 s instead of eight scans' (sane, not equal) until the reset.
+        start = min(self.odom)
+        dp, _, _ = max_difference([m for m in odom if m[0] < start + 1.0e9], self.odom)
+        self.assertLess(dp, 1e-6)
+        dp, _, _ = max_difference([m for m in odom if m[0] < start + 2.0e9], self.odom)
+        print(f"gaps: largest distance to the command line's poses before the reset {dp:.3f} m")
+        self.assertLess(dp, 0.2)
         self.assertTrue(all(math.isfinite(v) for m in odom for v in m[1]))
 
     def test_an_imu_stall_falls_back_to_doppler_once(self):

@@ -29,6 +29,9 @@ TEST(StampGuard, DropsRepeatedAndOlderStampsAndResetsAfterALongGap) {
     EXPECT_NEAR(guard.ordinary_interval_s(), 0.1, 1e-12);  // a gap does not change it
     EXPECT_EQ(guard.Accept(900 * kMs), GapVerdict::kNone);
     EXPECT_EQ(guard.Accept(2000 * kMs), GapVerdict::kReset);  // 1.1 s > max_gap_s
+    // A gap the node made itself (it dropped late scans in between) is integrated, not reported.
+    EXPECT_EQ(guard.Accept(3500 * kMs, true), GapVerdict::kNone);
+    EXPECT_NEAR(guard.last_interval_s(), 1.5, 1e-12);
 }
 
 TEST(FaultLog, ReportsTheFirstOfACauseAndSummarisesTheRest) {
