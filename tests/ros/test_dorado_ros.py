@@ -162,7 +162,7 @@ class DoradoRos(unittest.TestCase):
         if dropped:
             self.assertIn("late (processing behind): dropped a scan", err)
         # Sane: finite, no reset (the gaps the drops make are integrated over, not a stall), and
-        # near the 1x map: within 0.2 m + 20 % of the path so far (a scan's twist integrated over
+        # near the 1x map: within 0.5 m + 20 % of the path so far (a scan's twist integrated over
         # the dropped scans' intervals drifts; on a quiet machine nothing is dropped).
         self.assertEqual(summary["resets"], 0)
         stamps = sorted(self.map)
@@ -174,7 +174,7 @@ class DoradoRos(unittest.TestCase):
                     for stamp, pose, _, _ in mapped)
         print(f"5x: worst distance to the 1x map trajectory beyond 20 % of the path {worst:.3f} m")
         self.assertTrue(all(math.isfinite(v) for m in mapped for v in m[1]))
-        self.assertLess(worst, 0.2)
+        self.assertLess(worst, 0.5)
 
     def test_out_of_order_and_duplicate_stamps_are_dropped_and_reported(self):
         bag = os.path.join(self.dir, "faults.bag")
