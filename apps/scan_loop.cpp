@@ -28,6 +28,7 @@ void ScanLoop::Run(io::DatasetReader &reader, StreamGuard &guard, Progress &prog
         on_scan(event, result);
     }
     progress.Finish();
+    skips_.PrintSummary();
 }
 
 // What was done about a scan without a point, or after a gap: the mapper's prior stood in, or

@@ -1,7 +1,9 @@
 #pragma once
 /// @file skip_log.hpp
 /// The scans a command could not use, and the faults of scans it used anyway: each is counted by
-/// kind, listed with its reason in summary.json, and announced on stderr as it happens.
+/// kind, listed with its reason in summary.json, and announced on stderr as it happens: the first
+/// few of each kind, then one summary line per kind (a wrong field map must not print a line per
+/// scan).
 
 #include <cstddef>
 #include <cstdio>
@@ -17,17 +19,27 @@ class SkipLog {
     /// Records that scan `scan_index` was skipped; `kind` groups the counts, `reason` is the
     /// detail.
     void Add(std::size_t scan_index, const std::string &kind, const std::string &reason) {
-        ++counts_[kind];
         scans_.push_back({{"scan", scan_index}, {"reason", reason}});
-        std::cerr << "dorado: warning: scan " << scan_index << ": " << reason << "\n";
+        Announce(++counts_[kind], scan_index, kind, reason);
     }
 
     /// Records a fault in scan `scan_index` that did not stop it being used (no finite point left,
     /// a gap before it); `what` says what the command did about it.
     void Warn(std::size_t scan_index, const std::string &kind, const std::string &what) {
-        ++warning_counts_[kind];
         warnings_.push_back({{"scan", scan_index}, {"warning", what}});
-        std::cerr << "dorado: warning: scan " << scan_index << ": " << what << "\n";
+        Announce(++warning_counts_[kind], scan_index, kind, what);
+    }
+
+    /// One line per kind that had more than kPrintedPerKind scans: how many in all (the rest were
+    /// counted, not printed). Call once, when the stream ends.
+    void PrintSummary() const {
+        for (const auto *counts : {&counts_, &warning_counts_}) {
+            for (const auto &[kind, count] : *counts) {
+                if (count > kPrintedPerKind)
+                    std::cerr << "dorado: warning: " << kind << ": " << count
+                              << " scans in all (the first " << kPrintedPerKind << " printed)\n";
+            }
+        }
     }
 
     /// Warns that scan `scan_index` has no point left (`removed_nonfinite` of them had NaN/Inf
@@ -50,7 +62,20 @@ class SkipLog {
     /// [{"scan": i, "warning": "..."}, ...] for summary.json's "warned".
     [[nodiscard]] const nlohmann::json &Warnings() const { return warnings_; }
 
+    /// Scans of one kind announced on stderr one by one; the rest are summarised.
+    static constexpr int kPrintedPerKind = 3;
+
   private:
+    // The first kPrintedPerKind of a kind are printed; the next says the rest are only counted.
+    static void Announce(int count, std::size_t scan_index, const std::string &kind,
+                         const std::string &text) {
+        if (count <= kPrintedPerKind)
+            std::cerr << "dorado: warning: scan " << scan_index << ": " << text << "\n";
+        else if (count == kPrintedPerKind + 1)
+            std::cerr << "dorado: warning: more scans with '" << kind
+                      << "' follow: counted, not printed\n";
+    }
+
     std::map<std::string, int> counts_, warning_counts_;
     nlohmann::json scans_ = nlohmann::json::array();
     nlohmann::json warnings_ = nlohmann::json::array();

@@ -255,6 +255,9 @@ const Trajectory &RadarFrontEnd::trajectory() const {
 const mapping::LocalMap *RadarFrontEnd::local_map() const {
     return state_->mapper ? &state_->mapper->local_map() : nullptr;
 }
+void RadarFrontEnd::SetPrior(mapping::PriorKind prior) {
+    state_->config.prior = prior;
+}
 const FrontEndConfig &RadarFrontEnd::config() const {
     return state_->config;
 }

@@ -1,6 +1,7 @@
 #include "dorado/io/dataset_config.hpp"
 
 #include "dorado/core/lie.hpp"
+#include "dorado/core/paper_mount.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -167,8 +168,11 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
     extrinsics.RejectUnknownKeys();
 
     YamlSection vehicle = top.Child("vehicle");
+    // m = 0 is allowed: both ICR axes on one line (a skid-steer base, the paper's Hugin).
     config.vehicle.half_wheelbase_m =
-        vehicle.GetPositive("half_wheelbase_m", config.vehicle.half_wheelbase_m);
+        vehicle.Get<double>("half_wheelbase_m", config.vehicle.half_wheelbase_m);
+    if (!(config.vehicle.half_wheelbase_m >= 0.0))
+        vehicle.Fail("half_wheelbase_m", "must be a number >= 0");
     config.vehicle.model_noise = ReadModelNoise(vehicle.Child("model_noise"));
     vehicle.RejectUnknownKeys();
 
@@ -190,8 +194,12 @@ DatasetConfig ResolveDataset(const std::string &argument) {
     const std::string ext = path.extension().string();
     if (ext == ".yaml" || ext == ".yml") return LoadDatasetConfig(argument);
     if (ext == ".bag") {
-        // The paper's Hugin dataset layout: radar PointCloud2 on /hugin_raf_1/radar_data.
+        // The paper's Hugin dataset layout: radar PointCloud2 on /hugin_raf_1/radar_data, and
+        // the mount of the paper's launch file (configs/hugin.yaml derives it).
         DatasetConfig config;
+        const PaperMount mount = MountFromPaperParameters(PaperMountParameters{});
+        config.extrinsics = mount.extrinsics;
+        config.vehicle.half_wheelbase_m = mount.half_wheelbase_m;
         config.name = path.stem().string();
         config.reader = ReaderKind::kRosbag;
         config.rosbag.path = argument;

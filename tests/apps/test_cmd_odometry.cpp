@@ -2,6 +2,7 @@
 // (make_odometry_bag.py): a vehicle driving a flat circle with a known constant twist.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -184,6 +185,25 @@ TEST_F(CmdOdometry, BadInputGivesOneClearError) {
     EXPECT_NE(err.find("key 'ego_velocity.gate_sigmas': must be > 0"), std::string::npos) << err;
     EXPECT_EQ(Dorado("calibrate roll " + (dir_ / "missing.bag").string() + " --out x.yaml", &err),
               1);
+    EXPECT_NE(err.find("dorado: error:"), std::string::npos) << err;
+}
+
+// A wrong field map (fields.doppler names no channel) makes every scan unreadable: a few lines,
+// one summary per cause, then the error; not one warning per scan (issue 14).
+TEST_F(CmdOdometry, AWrongFieldMapIsSummarisedNotOneLinePerScan) {
+    std::ifstream in(Dataset());
+    std::stringstream yaml;
+    yaml << in.rdbuf() << "fields:\n  doppler: dopler\n";
+    std::ofstream(dir_ / "wrong_field.yaml") << yaml.str();
+    std::string err;
+    EXPECT_EQ(Dorado("odometry " + (dir_ / "wrong_field.yaml").string() + " --out " +
+                         (dir_ / "wrong_field").string(),
+                     &err),
+              1);
+    const auto lines = std::count(err.begin(), err.end(), '\n');
+    EXPECT_LE(lines, 8) << err;
+    EXPECT_NE(err.find("missing field 'dopler'"), std::string::npos) << err;
+    EXPECT_NE(err.find("unreadable scan: 60 scans in all"), std::string::npos) << err;
     EXPECT_NE(err.find("dorado: error:"), std::string::npos) << err;
 }
 

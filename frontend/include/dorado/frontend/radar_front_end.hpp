@@ -111,6 +111,11 @@ class RadarFrontEnd {
     /// Processes one scan (radar frame). Never throws on bad data.
     FrontEndResult Process(const RadarScan &scan_radar);
 
+    /// Changes the mapper's prior from the next scan on (dorado_ros falls back to kDoppler while
+    /// its IMU stalls, and back when it resumes). The odometry's method is the one set at
+    /// construction or at the last Reset.
+    void SetPrior(mapping::PriorKind prior);
+
     /// Starts over at T_world_base: the next scan is a first scan (a new map, no prior).
     void Reset(const Eigen::Isometry3d &T_world_base = Eigen::Isometry3d::Identity());
 

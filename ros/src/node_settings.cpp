@@ -1,0 +1,192 @@
+#include "node_settings.hpp"
+
+#include <ros/ros.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "dorado/config/map_config.hpp"
+#include "dorado/config/odometry_config.hpp"
+#include "dorado/core/paper_mount.hpp"
+
+namespace dorado::ros_node {
+namespace {
+
+// Looks a parameter up privately first, then in the node's namespace.
+class Params {
+  public:
+    Params(const ros::NodeHandle &node, const ros::NodeHandle &private_node)
+        : node_(node), private_(private_node) {}
+
+    template <typename T>
+    bool Get(const std::string &name, T &value) const {
+        const ros::NodeHandle *handle = Which(name);
+        if (!handle) return false;
+        if (!handle->getParam(name, value)) Fail(name, "has the wrong type");
+        return true;
+    }
+
+    // A list of numbers (ints or doubles) of the given size.
+    bool GetNumbers(const std::string &name, std::size_t size, std::vector<double> &values) const {
+        const ros::NodeHandle *handle = Which(name);
+        if (!handle) return false;
+        XmlRpc::XmlRpcValue list;
+        handle->getParam(name, list);
+        if (list.getType() != XmlRpc::XmlRpcValue::TypeArray ||
+            static_cast<std::size_t>(list.size()) != size)
+            Fail(name, "must be a list of " + std::to_string(size) + " numbers");
+        values.clear();
+        for (int i = 0; i < list.size(); ++i) {
+            if (list[i].getType() == XmlRpc::XmlRpcValue::TypeDouble)
+                values.push_back(static_cast<double>(list[i]));
+            else if (list[i].getType() == XmlRpc::XmlRpcValue::TypeInt)
+                values.push_back(static_cast<int>(list[i]));
+            else
+                Fail(name, "must be a list of " + std::to_string(size) + " numbers");
+        }
+        return true;
+    }
+
+    [[noreturn]] void Fail(const std::string &name, const std::string &what) const {
+        throw io::ConfigError("parameter '" + name + "': " + what);
+    }
+
+  private:
+    const ros::NodeHandle *Which(const std::string &name) const {
+        if (private_.hasParam(name)) return &private_;
+        if (node_.hasParam(name)) return &node_;
+        return nullptr;
+    }
+    const ros::NodeHandle &node_;
+    const ros::NodeHandle &private_;
+};
+
+Eigen::Quaterniond QuaternionXyzw(const std::vector<double> &v, std::size_t first) {
+    return Eigen::Quaterniond(v[first + 3], v[first], v[first + 1], v[first + 2]);
+}
+
+// The mount: the `config` YAML's, or the paper's launch values; any of the paper's three
+// parameters replaces it by MountFromPaperParameters (the others at the launch values).
+void ReadMount(const Params &params, bool has_config, NodeSettings &s) {
+    PaperMountParameters paper;
+    std::vector<double> values;
+    bool given = false;
+    if (params.GetNumbers("sensor_pose", 7, values)) {
+        paper.sensor_position_m = Eigen::Vector3d(values[0], values[1], values[2]);
+        paper.sensor_rotation = QuaternionXyzw(values, 3);
+        given = true;
+    }
+    if (params.GetNumbers("calib_rot", 4, values)) {
+        paper.calib_rotation = QuaternionXyzw(values, 0);
+        given = true;
+    }
+    given |= params.Get("sensor_to_icr_x", paper.sensor_to_icr_x_m);
+    for (const auto *q : {&paper.sensor_rotation, &paper.calib_rotation}) {
+        if (!(std::abs(q->norm() - 1.0) < 1e-3))
+            params.Fail(q == &paper.sensor_rotation ? "sensor_pose" : "calib_rot",
+                        "the quaternion must have norm 1");
+    }
+    if (has_config && !given) return;  // the dataset YAML's extrinsics
+    const PaperMount mount = MountFromPaperParameters(paper);
+    s.dataset.extrinsics.T_base_radar = mount.extrinsics.T_base_radar;
+    s.dataset.vehicle.half_wheelbase_m = mount.half_wheelbase_m;
+    s.T_base_child = mount.T_base_baselink;
+}
+
+// The paper's estimator keys on dorado's ego-velocity settings.
+void ReadEstimator(const Params &params, odometry::EgoVelocityConfig &ego) {
+    params.Get("min_points", ego.min_points);
+    params.Get("use_power", ego.use_power);
+    std::string mode;
+    const bool has_mode = params.Get("threshold_mode", mode);
+    double value = 0.0;
+    const bool has_value = params.Get("threshold_value", value);
+    if (!has_mode) mode = ego.method == odometry::RobustMethod::kRansac ? "ransac" : "";
+    if (mode == "ransac") {
+        ego.method = odometry::RobustMethod::kRansac;
+        // The paper's RANSAC inlier threshold [m/s] is dorado's gate for strong returns.
+        if (has_value) ego.doppler_sigma_mps = value / ego.gate_sigmas;
+        return;
+    }
+    if (!has_mode) return;
+    ego.method = odometry::RobustMethod::kTrimmedIrls;
+    ego.trim_mode = mode == "percent" ? odometry::TrimMode::kPercent
+                    : mode == "mad"   ? odometry::TrimMode::kMad
+                                      : odometry::TrimMode::kFixed;  // the paper's other modes
+    if (has_value) ego.trim_value = value;
+}
+
+void ReadFrontEnd(const Params &params, NodeSettings &s) {
+    std::string path;
+    if (params.Get("odometry_config", path) && !path.empty())
+        s.front_end.odometry = config::LoadOdometryConfig(path);
+    config::MapCommandConfig map_config;
+    if (params.Get("mapper_config", path) && !path.empty())
+        map_config = config::LoadMapConfig(path);
+    s.front_end.mapper = map_config.mapper;
+    s.front_end.prior_noise = map_config.prior;
+    s.front_end.run_mapper = false;
+    params.Get("mapper", s.front_end.run_mapper);
+    std::string text;
+    if (params.Get("prior", text)) s.front_end.prior = config::ParsePriorKindKey(text, "prior");
+    if (params.Get("method", text))
+        s.front_end.odometry.method = config::ParseOdometryMethodKey(text, "method");
+    params.Get("use_mask", s.front_end.use_mask);
+    ReadEstimator(params, s.front_end.odometry.ego_velocity);
+    s.needs_imu = s.front_end.run_mapper ? mapping::NeedsImu(s.front_end.prior)
+                                         : odometry::NeedsImu(s.front_end.odometry.method);
+}
+
+void ReadLive(const Params &params, NodeSettings &s) {
+    params.Get("queue_size", s.queue_size);
+    if (s.queue_size < 1) params.Fail("queue_size", "must be >= 1");
+    params.Get("max_gap_s", s.gaps.max_gap_s);
+    if (!(s.gaps.max_gap_s > 0.0)) params.Fail("max_gap_s", "must be > 0");
+    params.Get("imu_wait_s", s.imu_wait_s);
+    params.Get("local_map_period_s", s.local_map_period_s);
+    s.local_map_period_s = std::max(1.0, s.local_map_period_s);
+    params.Get("report_period_s", s.report_period_s);
+    params.Get("summary_file", s.summary_file);
+}
+
+}  // namespace
+
+NodeSettings ReadNodeSettings(const ros::NodeHandle &node, const ros::NodeHandle &private_node) {
+    const Params params(node, private_node);
+    NodeSettings s;
+    std::string config_path;
+    const bool has_config = params.Get("config", config_path) && !config_path.empty();
+    if (has_config) s.dataset = io::LoadDatasetConfig(config_path);
+    s.description = has_config ? "dataset " + config_path : "the paper's Hugin defaults";
+    ReadMount(params, has_config, s);
+    ReadFrontEnd(params, s);
+    ReadLive(params, s);
+
+    s.input_topic = s.dataset.rosbag.radar_topic;
+    params.Get("input_topic", s.input_topic);
+    s.imu_topic = s.dataset.rosbag.imu_topic;
+    params.Get("imu_topic", s.imu_topic);
+    if (s.needs_imu && s.imu_topic.empty())
+        params.Fail("imu_topic", "is required: the prior or method needs the IMU");
+    params.Get("tf_from_frame", s.tf_from_frame);
+    params.Get("tf_to_frame", s.tf_to_frame);
+    params.Get("publish_tf", s.publish_tf);
+    params.Get("verbose", s.verbose);
+    std::vector<double> pose;
+    if (params.GetNumbers("initial_pose", 16, pose)) {
+        const Eigen::Matrix4d M = Eigen::Map<const Eigen::Matrix4d>(pose.data());  // column-major
+        if (!M.allFinite() || (M.topLeftCorner<3, 3>().transpose() * M.topLeftCorner<3, 3>() -
+                               Eigen::Matrix3d::Identity())
+                                      .norm() > 1e-3)
+            params.Fail("initial_pose", "must be a rigid transform (16 values, column-major)");
+        s.T_world_child_initial.matrix() = M;
+    }
+    try {
+        s.front_end.Validate();
+    } catch (const std::invalid_argument &e) {
+        throw io::ConfigError(std::string("parameters: ") + e.what());
+    }
+    return s;
+}
+
+}  // namespace dorado::ros_node

@@ -1,0 +1,42 @@
+#pragma once
+/// @file ros_messages.hpp
+/// Between ROS messages and dorado's types: a PointCloud2's bytes as dorado_io's decoder reads
+/// them (the bag reader's decoder, not a second one), point clouds and odometry to publish.
+
+#include <nav_msgs/Odometry.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <Eigen/Geometry>
+
+#include "dorado/core/radar_scan.hpp"
+#include "dorado/io/pointcloud_decoder.hpp"
+#include "dorado/odometry/kinematic_model.hpp"
+
+namespace dorado::ros_node {
+
+/// The message's layout and bytes as the decoder's view (valid while msg lives).
+[[nodiscard]] io::CloudBufferView ViewOf(const sensor_msgs::PointCloud2 &msg);
+
+/// A PointCloud2 of the given points (float32 x, y, z, and doppler, power when given).
+[[nodiscard]] sensor_msgs::PointCloud2 MakeCloud(const std_msgs::Header &header,
+                                                 const Eigen::Matrix3Xd &points,
+                                                 const Eigen::VectorXd *doppler = nullptr,
+                                                 const Eigen::VectorXd *power = nullptr);
+
+/// The points of `scan` where keep == want (the static or the dynamic part), as a PointCloud2.
+[[nodiscard]] sensor_msgs::PointCloud2 MakeCloud(const std_msgs::Header &header,
+                                                 const RadarScan &scan,
+                                                 const Eigen::Array<bool, Eigen::Dynamic, 1> &keep,
+                                                 bool want);
+
+/// The twist of a frame at T_base_child (no rotation: base_link shares the base's axes, else
+/// rotated too), from the base twist: v_child = R^T (v + omega x p), omega_child = R^T omega,
+/// with the covariance carried through the same linear map.
+[[nodiscard]] odometry::VehicleTwist TwistAt(const odometry::VehicleTwist &twist_base,
+                                             const Eigen::Isometry3d &T_base_child);
+
+/// Fills pose (and its covariance, row-major 6x6) and twist (with covariance) of an Odometry.
+void FillOdometry(const Eigen::Isometry3d &T_world_child,
+                  const Eigen::Matrix<double, 6, 6> &pose_covariance,
+                  const odometry::VehicleTwist &twist_child, nav_msgs::Odometry &msg);
+
+}  // namespace dorado::ros_node
