@@ -200,10 +200,10 @@ DatasetConfig ResolveDataset(const std::string &argument) {
         config.rosbag.path = argument;
         return config;
     }
-    throw ConfigError(
-        argument +
-        ": not a dataset (expected a .yaml description, a .bag, .db3 or .mcap recording, or a folder "
-        "with dataset.yaml or metadata.yaml)");
+    throw ConfigError(argument +
+                      ": not a dataset (expected a .yaml description, a .bag, .db3 or .mcap "
+                      "recording, or a folder "
+                      "with dataset.yaml or metadata.yaml)");
 }
 
 namespace {

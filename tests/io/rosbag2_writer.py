@@ -109,10 +109,11 @@ def pose_stamped(sec, nanosec, frame_id, position, orientation_xyzw):
 class Db3Writer:
     """rosbag2_storage_sqlite3's layout (Humble): topics and messages, with timestamp_idx."""
 
-    def __init__(self, path):
+    def __init__(self, path, page_size=4096):
         if os.path.exists(path):
             os.remove(path)
         self.db = sqlite3.connect(path)
+        self.db.execute("PRAGMA page_size=%d" % page_size)
         self.db.executescript(
             "CREATE TABLE schema(schema_version INTEGER PRIMARY KEY, ros_distro TEXT NOT NULL);"
             "INSERT INTO schema VALUES (3, 'humble');"
