@@ -202,8 +202,7 @@ DatasetConfig ResolveDataset(const std::string &argument) {
     }
     throw ConfigError(argument +
                       ": not a dataset (expected a .yaml description, a .bag, .db3 or .mcap "
-                      "recording, or a folder "
-                      "with dataset.yaml or metadata.yaml)");
+                      "recording, or a folder with dataset.yaml or metadata.yaml)");
 }
 
 namespace {

@@ -37,8 +37,8 @@ void WriteAtomically(const std::string &path, Write write) {
     std::filesystem::rename(tmp, path, ec);
     if (ec) {
         std::remove(tmp.c_str());
-        throw std::runtime_error(path +
-                                 ": cannot rename the finished file into place: " + ec.message());
+        throw std::runtime_error(path + ": cannot rename the finished file into place: " +
+                                 ec.message());
     }
 }
 
