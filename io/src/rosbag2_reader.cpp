@@ -127,7 +127,8 @@ class Rosbag2Reader final : public DatasetReader {
         if (!m.problem.empty()) {
             event.kind = DatasetEvent::Kind::kBadScan;
             event.scan_index = radar_count_;
-            event.problem = m.problem;
+            event.problem = m.problem + " [" + std::to_string(radar_count_) + " scans on " +
+                            config_.rosbag.radar_topic + " read before it]";
             return;
         }
         const RosbagSource &bag = config_.rosbag;

@@ -165,21 +165,31 @@ def convert(bag, out):
 
 
 def big(path, megabytes):
-    """Scans of 4000 points (128 kB) at 10 Hz and IMU at 200 Hz until the file has the size."""
+    """Scans of 4000 random points (128 kB, 50 distinct ones in turn, so that zstd cannot shrink
+    them) at 10 Hz and IMU at 200 Hz until the messages hold the size."""
+    import array
+    import random
+    random.seed(1)
+    clouds = []
+    for _ in range(50):
+        values = array.array("f", [random.uniform(-50.0, 50.0) for _ in range(4000 * 8)])
+        clouds.append(values.tobytes())
+    fields = [(n, 4 * j, 7, 1) for j, n in enumerate(NAMES)]
     writer = w.McapWriter(path, compression="zstd") if path.endswith(".mcap") else w.Db3Writer(path)
     k = 0
     written = 0
     while written < megabytes * 1_000_000:
         sec, nsec = stamp(k)
         t = ns(sec, nsec)
-        cloud = hugin_cloud(k, n_points=4000)
+        cloud = w.pointcloud2(sec, nsec, "radar", 1, 4000, fields, False, 32, 32 * 4000, clouds[k % 50])
         writer.write(RADAR, CLOUD2, t, cloud)
         for j in range(20):
             ti = t + 5_000_000 * j + 1
-            writer.write("/imu", "sensor_msgs/msg/Imu", ti,
-                         w.imu(ti // 1_000_000_000, ti % 1_000_000_000, "imu", (0, 0, 0, 1),
-                               (0.0, 0.0, 0.1), (0.0, 0.0, 9.81)))
-        written += len(cloud) + 20 * 400
+            imu = w.imu(ti // 1_000_000_000, ti % 1_000_000_000, "imu", (0, 0, 0, 1), (0.0, 0.0, 0.1),
+                        (0.0, 0.0, 9.81))
+            writer.write("/imu", "sensor_msgs/msg/Imu", ti, imu)
+            written += len(imu)
+        written += len(cloud)
         k += 1
     writer.close()
     print("wrote %s: %d scans" % (path, k))
