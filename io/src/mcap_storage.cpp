@@ -140,7 +140,8 @@ class McapStorage final : public Rosbag2Storage {
         const uint64_t length = h.U64();
         const uint64_t at = offset_;
         if (length > size_ - offset_ - kRecordHead)
-            return End(message, "inside a record of " + std::to_string(length) + " bytes");
+            return End(message, "inside the record at byte " + std::to_string(offset_) + " (" +
+                                    std::to_string(length) + " bytes long)");
         offset_ += kRecordHead + length;
         if (op == static_cast<uint8_t>(McapOp::kDataEnd) ||
             op == static_cast<uint8_t>(McapOp::kFooter)) {

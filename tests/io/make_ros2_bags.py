@@ -75,6 +75,7 @@ def fixtures(out):
     for comp, name in (("zstd", "known.mcap"), ("lz4", "known_lz4.mcap"), ("", "known_raw.mcap")):
         write(w.McapWriter(out + "/" + name, compression=comp, chunk_size=2000), msgs)
     write(w.McapWriter(out + "/nosummary.mcap", summary=False, chunk_size=2000), msgs)
+    write(w.McapWriter(out + "/unchunked.mcap", chunked=False), msgs)
     # A folder with two files: scans 0-2 in the first, 3-4 in the second.
     split = out + "/split"
     shutil.rmtree(split, ignore_errors=True)

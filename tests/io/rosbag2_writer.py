@@ -164,11 +164,12 @@ def compress(kind, raw):
 class McapWriter:
     """MCAP with Schema/Channel records before the chunks and again in the summary section."""
 
-    def __init__(self, path, compression="zstd", chunk_size=1 << 20, summary=True):
+    def __init__(self, path, compression="zstd", chunk_size=1 << 20, summary=True, chunked=True):
         self.f = open(path, "wb")
         self.compression = compression
         self.chunk_size = chunk_size
         self.summary = summary
+        self.chunked = chunked
         self.channels = {}
         self.definitions = b""
         self.chunk = bytearray()
@@ -187,6 +188,9 @@ class McapWriter:
             self.definitions += schema + channel
             self.f.write(schema + channel)
         body = struct.pack("<HIQQ", self.channels[topic], sequence, log_time_ns, log_time_ns) + data
+        if not self.chunked:  # a Message record in the data section itself
+            self.f.write(_record(0x05, body))
+            return
         self.chunk += _record(0x05, body)
         self.times.append(log_time_ns)
         if len(self.chunk) >= self.chunk_size:

@@ -106,7 +106,7 @@ std::filesystem::path Rosbag2ReaderTest::dir_;
 
 TEST_F(Rosbag2ReaderTest, EveryStorageGivesTheWrittenMessagesInTimeOrder) {
     for (const char *bag : {"known.db3", "known.mcap", "known_lz4.mcap", "known_raw.mcap",
-                            "nosummary.mcap", "split"}) {
+                            "nosummary.mcap", "unchunked.mcap", "split"}) {
         SCOPED_TRACE(bag);
         DatasetConfig config = Config(bag, "/odom");
         config.rosbag.imu_topic = "/imu";
