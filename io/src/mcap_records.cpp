@@ -57,11 +57,20 @@ std::vector<uint8_t> DecompressChunk(const std::string &compression, const uint8
         if (uncompressed_size != size) throw McapError("stored chunk size does not match");
         out.assign(records, records + size);
     } else if (compression == "zstd") {
+        // The frame says its size (the MCAP writers and zstd's own tools write it): checked before
+        // anything is allocated.
+        const unsigned long long frame = ZSTD_getFrameContentSize(records, size);
+        if (frame == ZSTD_CONTENTSIZE_ERROR) throw McapError("zstd: not a zstd frame");
+        if (frame != ZSTD_CONTENTSIZE_UNKNOWN && frame != uncompressed_size)
+            throw McapError("zstd: the frame holds " + std::to_string(frame) +
+                            " bytes, the chunk says " + std::to_string(uncompressed_size));
         out.resize(uncompressed_size);
         const std::size_t rc = ZSTD_decompress(out.data(), out.size(), records, size);
         if (ZSTD_isError(rc)) throw McapError(std::string("zstd: ") + ZSTD_getErrorName(rc));
         if (rc != out.size()) throw McapError("zstd: fewer bytes than the chunk says");
     } else {
+        if (uncompressed_size > 256 * static_cast<uint64_t>(size) + 64)  // above lz4's ratio
+            throw McapError("lz4: the chunk's uncompressed size cannot come from its bytes");
         out.resize(uncompressed_size);
         Lz4Decompress(records, size, out);
     }
