@@ -195,7 +195,7 @@ DatasetConfig ResolveDataset(const std::string &argument) {
     if (ext == ".bag" || ext == ".db3" || ext == ".mcap" || fs::is_directory(path, ec)) {
         // The paper's Hugin dataset layout: radar PointCloud2 on /hugin_raf_1/radar_data.
         DatasetConfig config;
-        config.name = path.stem().string();
+        config.name = (path.has_filename() ? path : path.parent_path()).stem().string();
         config.reader = ReaderKind::kRosbag;
         config.rosbag.path = argument;
         return config;
