@@ -70,10 +70,16 @@ class SqliteStorage final : public Rosbag2Storage {
     }
 
   private:
-    [[noreturn]] void Fail(const std::string &what) const {
-        throw DatasetError(path_ + ": " + what + " rosbag2 storage (" +
-                           (db_ ? sqlite3_errmsg(db_) : "out of memory") +
-                           "; truncated or not a .db3?)");
+    /// Only called from the constructor: closes what it opened (no destructor runs), then throws.
+    [[noreturn]] void Fail(const std::string &what) {
+        const std::string message = path_ + ": " + what + " rosbag2 storage (" +
+                                    (db_ ? sqlite3_errmsg(db_) : "out of memory") +
+                                    "; truncated or not a .db3?)";
+        sqlite3_finalize(messages_);
+        sqlite3_close(db_);
+        db_ = nullptr;
+        messages_ = nullptr;
+        throw DatasetError(message);
     }
 
     void ReadTopics() {
