@@ -2,13 +2,19 @@
 
 #include "dorado/io/trajectory_io.hpp"
 #include "readers.hpp"
+#include "rosbag2_storage.hpp"
 
 namespace dorado::io {
+
+std::unique_ptr<DatasetReader> OpenRecordingReader(const DatasetConfig &config) {
+    if (DetectBagFormat(config.rosbag.path) == BagFormat::kRos1) return OpenBagReader(config);
+    return OpenRosbag2Reader(config);
+}
 
 std::unique_ptr<DatasetReader> OpenDataset(const DatasetConfig &config) {
     switch (config.reader) {
         case ReaderKind::kRosbag:
-            return OpenBagReader(config);
+            return OpenRecordingReader(config);
         case ReaderKind::kFolder:
             return OpenFolderReader(config);
     }
@@ -16,7 +22,10 @@ std::unique_ptr<DatasetReader> OpenDataset(const DatasetConfig &config) {
 }
 
 std::vector<TopicSummary> ListTopics(const DatasetConfig &config) {
-    if (config.reader == ReaderKind::kRosbag) return ListBagTopics(config);
+    if (config.reader == ReaderKind::kRosbag) {
+        if (DetectBagFormat(config.rosbag.path) == BagFormat::kRos1) return ListBagTopics(config);
+        return ListRosbag2Topics(config);
+    }
     auto reader = OpenFolderReader(config);  // validates the folder and the timestamps file
     TopicSummary summary;
     summary.topic = config.folder.scans_dir;
@@ -48,7 +57,7 @@ std::optional<Trajectory> LoadGroundTruth(const DatasetConfig &config) {
     // Ground truth recorded in the bag: read only that topic.
     DatasetConfig only_gt = config;
     only_gt.rosbag.imu_topic.clear();
-    auto reader = OpenBagReader(only_gt);
+    auto reader = OpenRecordingReader(only_gt);
     std::vector<StampedPose> poses;
     DatasetEvent event;
     while (reader->Next(event)) {

@@ -186,28 +186,31 @@ DatasetConfig ResolveDataset(const std::string &argument) {
     if (fs::is_directory(path, ec)) {
         const fs::path description = path / "dataset.yaml";
         if (fs::exists(description)) return LoadDatasetConfig(description.string());
-        throw ConfigError(
-            argument +
-            ": a folder without dataset.yaml; pass a dataset description (.yaml) or a .bag");
+        if (!fs::exists(path / "metadata.yaml")) {
+            throw ConfigError(argument +
+                              ": a folder without dataset.yaml or metadata.yaml (rosbag2); pass a "
+                              "dataset description (.yaml), a .bag, .db3 or .mcap");
+        }
     }
     if (!fs::exists(path, ec)) throw ConfigError(argument + ": no such file");
     const std::string ext = path.extension().string();
     if (ext == ".yaml" || ext == ".yml") return LoadDatasetConfig(argument);
-    if (ext == ".bag") {
+    // A recording: ROS1 .bag, rosbag2 folder, .db3 or .mcap (the reader tells them by their bytes).
+    if (ext == ".bag" || ext == ".db3" || ext == ".mcap" || fs::is_directory(path, ec)) {
         // The paper's Hugin dataset layout: radar PointCloud2 on /hugin_raf_1/radar_data, and
         // the mount of the paper's launch file (configs/hugin.yaml derives it).
         DatasetConfig config;
         const PaperMount mount = MountFromPaperParameters(PaperMountParameters{});
         config.extrinsics = mount.extrinsics;
         config.vehicle.half_wheelbase_m = mount.half_wheelbase_m;
-        config.name = path.stem().string();
+        config.name = (path.has_filename() ? path : path.parent_path()).stem().string();
         config.reader = ReaderKind::kRosbag;
         config.rosbag.path = argument;
         return config;
     }
-    throw ConfigError(
-        argument +
-        ": not a dataset (expected a .yaml description, a .bag, or a folder with dataset.yaml)");
+    throw ConfigError(argument +
+                      ": not a dataset (expected a .yaml description, a .bag, .db3 or .mcap "
+                      "recording, or a folder with dataset.yaml or metadata.yaml)");
 }
 
 namespace {

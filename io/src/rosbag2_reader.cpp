@@ -1,0 +1,220 @@
+// rosbag2 recordings (a folder with metadata.yaml, or one .db3 or .mcap): the storage files are
+// merged into one log-time-ordered stream holding one message per file, and each message is
+// decoded from CDR with the same field map, Doppler sign, topic keys and stamp rule as ROS1 bags.
+#include <map>
+#include <utility>
+
+#include "cdr_messages.hpp"
+#include "readers.hpp"
+#include "rosbag2_storage.hpp"
+
+namespace dorado::io {
+
+namespace {
+
+constexpr const char *kCloud2 = "sensor_msgs/msg/PointCloud2";
+
+/// The header stamp when the driver set one, else the time the message was recorded (as ROS1).
+int64_t StampOf(const CdrHeader &header, int64_t log_time_ns) {
+    return header.stamp_ns == 0 ? log_time_ns : header.stamp_ns;
+}
+
+StampedPose PoseOf(const CdrPose &pose, int64_t stamp_ns) {
+    StampedPose out;
+    out.stamp_ns = stamp_ns;
+    out.T_world_body.linear() = pose.orientation.normalized().toRotationMatrix();
+    out.T_world_body.translation() = pose.position;
+    return out;
+}
+
+std::unique_ptr<Rosbag2Storage> OpenStorage(const std::string &file,
+                                            const std::set<std::string> &selected) {
+    switch (DetectBagFormat(file)) {
+        case BagFormat::kSqlite3:
+            return OpenSqliteStorage(file, selected);
+        case BagFormat::kMcap:
+            return OpenMcapStorage(file, selected);
+        default:
+            throw DatasetError(file + ": not a rosbag2 storage file (.db3 or .mcap)");
+    }
+}
+
+/// The storage files of the recording, each open on the selected topics.
+std::vector<std::unique_ptr<Rosbag2Storage>> OpenAll(const std::string &path,
+                                                     const std::set<std::string> &selected) {
+    std::vector<std::unique_ptr<Rosbag2Storage>> storages;
+    for (const auto &file : Rosbag2Files(path, DetectBagFormat(path)))
+        storages.push_back(OpenStorage(file, selected));
+    return storages;
+}
+
+class Rosbag2Reader final : public DatasetReader {
+  public:
+    explicit Rosbag2Reader(const DatasetConfig &config) : config_(config) {
+        const RosbagSource &bag = config.rosbag;
+        std::vector<std::pair<std::string, std::string>> topics{
+            {bag.radar_topic, "rosbag.radar_topic"}};
+        if (!bag.imu_topic.empty()) topics.emplace_back(bag.imu_topic, "rosbag.imu_topic");
+        if (!bag.ground_truth_topic.empty())
+            topics.emplace_back(bag.ground_truth_topic, "rosbag.ground_truth_topic");
+        std::set<std::string> selected;
+        for (const auto &topic : topics) selected.insert(topic.first);
+        storages_ = OpenAll(bag.path, selected);
+        CheckTopics(topics);
+        heads_.resize(storages_.size());
+        live_.resize(storages_.size());
+        for (std::size_t i = 0; i < storages_.size(); ++i) Advance(i);
+    }
+
+    bool Next(DatasetEvent &event) override {
+        // The earliest head (a problem goes first; ties go to the earlier file).
+        std::size_t best = storages_.size();
+        for (std::size_t i = 0; i < storages_.size(); ++i) {
+            if (!live_[i]) continue;
+            if (!heads_[i].problem.empty()) {
+                best = i;
+                break;
+            }
+            if (best == storages_.size() || heads_[i].log_time_ns < heads_[best].log_time_ns)
+                best = i;
+        }
+        if (best == storages_.size()) return false;
+        Convert(heads_[best], event);
+        Advance(best);
+        return true;
+    }
+
+    [[nodiscard]] std::string source() const override { return config_.rosbag.path; }
+
+  private:
+    void Advance(std::size_t i) { live_[i] = storages_[i]->Next(heads_[i]); }
+
+    void CheckTopics(const std::vector<std::pair<std::string, std::string>> &topics) {
+        std::map<std::string, std::string> present;
+        for (const auto &storage : storages_)
+            for (const auto &t : storage->topics()) present.emplace(t.name, t.type);
+        for (const auto &[topic, key] : topics) {
+            if (present.count(topic)) continue;
+            std::string list;
+            for (const auto &[t, type] : present) list += "\n  " + t + " [" + type + "]";
+            throw DatasetError(config_.rosbag.path + ": topic '" + topic + "' is not in the bag (" +
+                               key + "); topics:" + (list.empty() ? std::string(" (none)") : list));
+        }
+        const RosbagSource &bag = config_.rosbag;
+        ExpectType(present, bag.radar_topic, {kCloud2});
+        ExpectType(present, bag.imu_topic, {"sensor_msgs/msg/Imu"});
+        ExpectType(present, bag.ground_truth_topic,
+                   {"nav_msgs/msg/Odometry", "geometry_msgs/msg/PoseStamped"});
+        if (!bag.ground_truth_topic.empty())
+            gt_is_odometry_ = present.at(bag.ground_truth_topic) == "nav_msgs/msg/Odometry";
+    }
+
+    void ExpectType(const std::map<std::string, std::string> &present, const std::string &topic,
+                    const std::vector<std::string> &accepted) const {
+        if (topic.empty()) return;
+        const std::string &type = present.at(topic);
+        std::string list;
+        for (const auto &a : accepted) {
+            if (a == type) return;
+            list += (list.empty() ? "" : " or ") + a;
+        }
+        throw DatasetError(config_.rosbag.path + ": topic " + topic + " has type " + type +
+                           ", expected " + list);
+    }
+
+    void Convert(const Rosbag2Message &m, DatasetEvent &event) {
+        event = DatasetEvent{};
+        if (!m.problem.empty()) {
+            event.kind = DatasetEvent::Kind::kBadScan;
+            event.scan_index = radar_count_;
+            event.problem = m.problem + " [" + std::to_string(radar_count_) + " scans on " +
+                            config_.rosbag.radar_topic + " read before it]";
+            return;
+        }
+        const RosbagSource &bag = config_.rosbag;
+        try {
+            if (m.topic == bag.radar_topic) return ConvertRadar(m, event);
+            if (m.topic == bag.imu_topic) {
+                const CdrImu imu = DecodeImuCdr(m.data);
+                event.kind = DatasetEvent::Kind::kImu;
+                event.stamp_ns = StampOf(imu.header, m.log_time_ns);
+                event.imu.stamp_ns = event.stamp_ns;
+                event.imu.omega_imu_radps = imu.omega_radps;
+                event.imu.accel_imu_mps2 = imu.accel_mps2;
+                return;
+            }
+            const CdrPose pose =
+                gt_is_odometry_ ? DecodeOdometryCdr(m.data) : DecodePoseStampedCdr(m.data);
+            event.kind = DatasetEvent::Kind::kGroundTruth;
+            event.stamp_ns = StampOf(pose.header, m.log_time_ns);
+            event.ground_truth = PoseOf(pose, event.stamp_ns);
+        } catch (const DecodeError &e) {
+            event = DatasetEvent{};
+            event.kind = DatasetEvent::Kind::kBadScan;
+            event.scan_index = radar_count_;
+            event.problem = bag.path + ": topic " + m.topic + " at log time " +
+                            std::to_string(m.log_time_ns) + " ns unreadable: " + e.what();
+        }
+    }
+
+    void ConvertRadar(const Rosbag2Message &m, DatasetEvent &event) {
+        event.scan_index = radar_count_++;
+        event.stamp_ns = m.log_time_ns;
+        try {
+            const CdrPointCloud2 msg = DecodePointCloud2Cdr(m.data);
+            event.stamp_ns = StampOf(msg.header, m.log_time_ns);
+            event.scan = DecodePointCloud(msg.cloud, config_.fields);
+            event.scan.frame_id = msg.header.frame_id;
+        } catch (const DecodeError &e) {
+            event.kind = DatasetEvent::Kind::kBadScan;
+            event.problem = config_.rosbag.path + ": topic " + config_.rosbag.radar_topic +
+                            ", scan " + std::to_string(event.scan_index) + ": " + e.what();
+            return;
+        }
+        event.kind = DatasetEvent::Kind::kRadarScan;
+        event.scan.stamp_ns = event.stamp_ns;
+        event.removed_nonfinite_points = RemoveNonFinitePoints(event.scan);
+    }
+
+    DatasetConfig config_;
+    std::vector<std::unique_ptr<Rosbag2Storage>> storages_;
+    std::vector<Rosbag2Message> heads_;
+    std::vector<bool> live_;
+    bool gt_is_odometry_ = false;
+    std::size_t radar_count_ = 0;
+};
+
+}  // namespace
+
+std::vector<TopicSummary> ListRosbag2Topics(const DatasetConfig &config) {
+    std::map<std::string, TopicSummary> topics;
+    for (const auto &storage : OpenAll(config.rosbag.path, {})) {
+        for (const auto &t : storage->topics()) {
+            topics[t.name].topic = t.name;
+            topics[t.name].type = t.type;
+        }
+        Rosbag2Message m;
+        while (storage->Next(m)) {
+            if (!m.problem.empty()) continue;  // the reader reports it
+            TopicSummary &summary = topics[m.topic];
+            if (summary.messages++ == 0 || m.log_time_ns < summary.first_ns)
+                summary.first_ns = m.log_time_ns;
+            summary.last_ns = std::max(summary.last_ns, m.log_time_ns);
+            if (summary.type != kCloud2 || !summary.fields.empty()) continue;
+            try {
+                summary.fields = DescribeFields(DecodePointCloud2Cdr(m.data).cloud.fields);
+            } catch (const DecodeError &e) {
+                summary.fields = std::string("(first message unreadable: ") + e.what() + ")";
+            }
+        }
+    }
+    std::vector<TopicSummary> out;
+    for (auto &[name, summary] : topics) out.push_back(summary);
+    return out;
+}
+
+std::unique_ptr<DatasetReader> OpenRosbag2Reader(const DatasetConfig &config) {
+    return std::make_unique<Rosbag2Reader>(config);
+}
+
+}  // namespace dorado::io

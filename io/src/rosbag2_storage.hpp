@@ -1,0 +1,54 @@
+#pragma once
+// Private to dorado_io: the two rosbag2 storage formats (sqlite3 .db3 and MCAP) as one kind of
+// message stream, and the detection of a recording's format from its bytes.
+
+#include <cstdint>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace dorado::io {
+
+/// How a recording is stored, found from the file's first bytes (not its name).
+enum class BagFormat { kRos1, kRosbag2Folder, kSqlite3, kMcap };
+
+/// The format of a ROS1 .bag, a rosbag2 folder (with metadata.yaml), a .db3 or an .mcap.
+/// Throws DatasetError naming the path when it is none of these.
+[[nodiscard]] BagFormat DetectBagFormat(const std::string &path);
+
+struct Rosbag2Topic {
+    std::string name;
+    std::string type;  ///< e.g. sensor_msgs/msg/PointCloud2
+};
+
+/// One serialized message, or (problem non-empty, data empty) a damaged part of the file that was
+/// skipped: the stream goes on after it unless the storage says it ended.
+struct Rosbag2Message {
+    std::string topic;
+    int64_t log_time_ns = 0;  ///< the time the recorder received it
+    std::vector<uint8_t> data;
+    std::string problem;
+};
+
+/// One storage file, streamed in log-time order.
+class Rosbag2Storage {
+  public:
+    virtual ~Rosbag2Storage() = default;
+    /// Every topic the file declares, with its type.
+    [[nodiscard]] virtual const std::vector<Rosbag2Topic> &topics() const = 0;
+    /// The next message on a selected topic (or a problem); false at the end.
+    virtual bool Next(Rosbag2Message &message) = 0;
+};
+
+/// Opens a file; `selected` names the topics to stream (empty = all). Throws DatasetError when the
+/// file cannot be opened at all.
+[[nodiscard]] std::unique_ptr<Rosbag2Storage> OpenSqliteStorage(
+    const std::string &path, const std::set<std::string> &selected);
+[[nodiscard]] std::unique_ptr<Rosbag2Storage> OpenMcapStorage(
+    const std::string &path, const std::set<std::string> &selected);
+
+/// The storage files of a recording: the folder's metadata.yaml list, or the one file.
+[[nodiscard]] std::vector<std::string> Rosbag2Files(const std::string &path, BagFormat format);
+
+}  // namespace dorado::io
