@@ -92,7 +92,7 @@ void RegisterMapCommand(CLI::App &app) {
     auto *cmd = app.add_subcommand("map",
                                    "Radar scan-to-map mapping with a motion prior, the Doppler "
                                    "dynamic-point mask and a Doppler-aware Ceres refinement.");
-    cmd->add_option("DATASET", opt->dataset, "dataset description (.yaml) or .bag")->required();
+    cmd->add_option("DATASET", opt->dataset, "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")->required();
     cmd->add_option("--out", opt->out, "output folder")->required();
     cmd->add_option("--prior", opt->prior,
                     "motion prior: none | constvel | imu | doppler (default) | imu+doppler");
