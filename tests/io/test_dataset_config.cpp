@@ -47,8 +47,10 @@ TEST_F(DatasetConfigTest, ShippedDescriptionsLoad) {
     const DatasetConfig hugin =
         LoadDatasetConfig(std::string(DORADO_SOURCE_DIR) + "/configs/hugin.yaml");
     EXPECT_EQ(hugin.rosbag.radar_topic, "/hugin_raf_1/radar_data");
-    EXPECT_DOUBLE_EQ(hugin.extrinsics.T_base_radar.translation().x(), 0.70);
-    EXPECT_DOUBLE_EQ(hugin.vehicle.half_wheelbase_m, 0.256);
+    // The paper's launch file: the radar sensor_to_icr_x = -0.99447 m from the ICR line, which is
+    // both the Z-ICR and the Y-ICR axis of the skid-steer Husky (m = 0).
+    EXPECT_NEAR(hugin.extrinsics.T_base_radar.translation().x(), 0.99447, 1e-5);
+    EXPECT_DOUBLE_EQ(hugin.vehicle.half_wheelbase_m, 0.0);
     EXPECT_TRUE(fs::path(hugin.rosbag.path).is_absolute()) << "relative to the YAML file";
     const DatasetConfig vod =
         LoadDatasetConfig(std::string(DORADO_SOURCE_DIR) + "/configs/view_of_delft.yaml");
@@ -75,7 +77,7 @@ TEST_F(DatasetConfigTest, MisspelledKeySuggestsTheRightOne) {
 
 TEST_F(DatasetConfigTest, OutOfRangeAndWrongTypesNameTheKey) {
     ExpectError("rosbag: {path: x.bag}\nvehicle: {half_wheelbase_m: -1}\n",
-                "vehicle.half_wheelbase_m': must be a positive number");
+                "vehicle.half_wheelbase_m': must be a number >= 0");
     ExpectError("rosbag: {path: x.bag}\nvehicle: {half_wheelbase_m: wide}\n",
                 "vehicle.half_wheelbase_m': has the wrong type (line 2)");
     ExpectError("rosbag: {path: x.bag}\nvehicle: {model_noise: {sigma_vertical_mps: -0.1}}\n",
