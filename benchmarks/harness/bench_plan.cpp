@@ -46,6 +46,9 @@ BenchSequence ParseSequence(const YAML::Node &node, std::size_t index, const std
     if (s.name.empty() || s.name.find_first_of("/\\ @") != std::string::npos) {
         section.Fail("name", "must be a non-empty name without '/', '@' or spaces");
     }
+    // A misspelled key is reported before the checks that it would make fail.
+    for (const char *key : {"simulate", "dataset", "ground_truth"}) (void)section.Has(key);
+    section.RejectUnknownKeys();
     if (section.Has("simulate")) {
         io::YamlSection sim = section.Child("simulate");
         s.simulate_sequence = sim.Get<std::string>("sequence", s.name);
@@ -68,7 +71,6 @@ BenchSequence ParseSequence(const YAML::Node &node, std::size_t index, const std
                          "a sequence needs `simulate:` or both `dataset:` and `ground_truth:`");
         }
     }
-    section.RejectUnknownKeys();
     return s;
 }
 
@@ -134,9 +136,11 @@ BenchConfig ParseBenchConfig(const std::string &yaml_text, const std::string &ba
     config.odometry_config = Resolve(base_dir, root.Get<std::string>("odometry_config", ""));
     config.map_config = Resolve(base_dir, root.Get<std::string>("map_config", ""));
     io::YamlSection grid = root.Child("grid");
-    const YAML::Node &const_node = node;  // const: a lookup must not insert a key
-    config.odometry_grid = ParseGrid(grid, const_node["grid"]["odometry"], "odometry");
-    config.map_grid = ParseGrid(grid, const_node["grid"]["map"], "map");
+    if (root.Has("grid")) {
+        const YAML::Node grid_node = node["grid"];
+        config.odometry_grid = ParseGrid(grid, grid_node["odometry"], "odometry");
+        config.map_grid = ParseGrid(grid, grid_node["map"], "map");
+    }
     grid.RejectUnknownKeys();
     const int jobs = root.Get<int>("jobs", 0);
     if (jobs < 0) root.Fail("jobs", "must be >= 0 (0: the number of cores)");
