@@ -217,7 +217,8 @@ void RunBench(const BenchOptions &o) {
     io::MakeDirectories(o.out_dir);
     const std::string out_dir = fs::canonical(o.out_dir).string();
     const std::vector<BenchRun> runs = PlanBenchmark(config, out_dir);
-    WriteVariantConfigs(config, out_dir);
+    // Not by --run-one or --score-only: a workflow's jobs run at the same time, after the plan.
+    if (o.run_one.empty() && !o.score_only) WriteVariantConfigs(config, out_dir);
     if (o.plan_only) return PrintPlan(runs, out_dir);
     if (!o.run_one.empty()) return RunOne(runs, o.run_one, out_dir);
     const std::vector<JobOutcome> outcomes =

@@ -66,7 +66,7 @@ run_slurm() {
     # Every run and the report went through sbatch: one Slurm output file per job.
     local jobs
     jobs=$(ls .snakemake/slurm-*.out | wc -l)
-    [ "$jobs" -eq 15 ] || fail "expected 15 Slurm jobs (2 simulations, 12 runs, the report), saw $jobs"
+    [ "$jobs" -eq 13 ] || fail "expected 13 Slurm jobs (2 simulations, 10 runs, the report), saw $jobs"
     echo "$jobs Slurm jobs"
     same_as_bench "$WORK/slurm/out"
 }
