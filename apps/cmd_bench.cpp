@@ -33,8 +33,8 @@ struct BenchOptions {
     std::string out_dir;
     std::size_t jobs = 0;
     bool no_plot = false;
-    std::string reference;  ///< empty: the config's
-    std::string association;  ///< empty: the config's
+    std::string reference;      ///< empty: the config's
+    std::string association;    ///< empty: the config's
     double t_max_diff_s = 0.0;  ///< 0: the config's
     bool plan_only = false;
     bool score_only = false;
@@ -115,7 +115,8 @@ void RunOne(const std::vector<BenchRun> &runs, const std::string &name, const st
     runner.program = SelfExecutablePath();
     runner.log_dir = (fs::path(out) / "logs").string();
     const JobOutcome outcome = RunJobs({job}, runner).front();
-    if (outcome.status == JobStatus::kFailed) throw std::runtime_error(name + ": " + outcome.message);
+    if (outcome.status == JobStatus::kFailed)
+        throw std::runtime_error(name + ": " + outcome.message);
     std::fprintf(stderr, "bench: %s %s\n", name.c_str(),
                  outcome.status == JobStatus::kAlreadyDone ? "already done" : "done");
 }
@@ -162,8 +163,9 @@ std::vector<JobOutcome> OutcomesOnDisk(const std::vector<BenchRun> &runs) {
     std::vector<JobOutcome> outcomes;
     for (const BenchRun &run : runs) {
         const bool done = fs::exists(fs::path(run.job.out_dir) / run.job.marker);
-        outcomes.push_back({done ? JobStatus::kAlreadyDone : JobStatus::kFailed, 0.0,
-                            done ? "" : "not run (no " + run.job.out_dir + "/" + run.job.marker + ")"});
+        outcomes.push_back(
+            {done ? JobStatus::kAlreadyDone : JobStatus::kFailed, 0.0,
+             done ? "" : "not run (no " + run.job.out_dir + "/" + run.job.marker + ")"});
     }
     return outcomes;
 }
@@ -188,10 +190,10 @@ void Report(const std::vector<BenchRun> &runs, const std::vector<JobOutcome> &ou
         if (failed++ == 0) first_failure = runs[i].job.name + ": " + outcomes[i].message;
     }
     if (failed > 0) {
-        throw std::runtime_error(std::to_string(failed) + " of " + std::to_string(runs.size()) +
-                                 " runs failed (logs in " + out_dir +
-                                 "/logs); the report covers the others; the first: " +
-                                 first_failure);
+        throw std::runtime_error(
+            std::to_string(failed) + " of " + std::to_string(runs.size()) +
+            " runs failed (logs in " + out_dir +
+            "/logs); the report covers the others; the first: " + first_failure);
     }
     // Runs that finished but could not be scored (no ground truth at their stamps, a missing
     // reference file): the report lists them; the exit status says the matrix is incomplete.

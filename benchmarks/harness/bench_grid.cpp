@@ -51,7 +51,8 @@ std::vector<GridVariant> GridVariants(const std::vector<GridAxis> &axes) {
         for (const GridVariant &v : variants) {
             for (const std::string &value : axis.values) {
                 GridVariant point = v;
-                point.name += (point.name.empty() ? "" : ",") + LastComponent(axis.key) + "=" + value;
+                point.name +=
+                    (point.name.empty() ? "" : ",") + LastComponent(axis.key) + "=" + value;
                 point.settings.emplace_back(axis.key, value);
                 next.push_back(std::move(point));
             }
@@ -68,8 +69,8 @@ std::string VariantConfigPath(const std::string &out_dir, const std::string &kin
 
 void WriteVariantConfig(const std::string &base_config, const GridVariant &variant,
                         const std::string &path) {
-    YAML::Node root = base_config.empty() ? YAML::Node(YAML::NodeType::Map)
-                                          : io::LoadYamlFile(base_config);
+    YAML::Node root =
+        base_config.empty() ? YAML::Node(YAML::NodeType::Map) : io::LoadYamlFile(base_config);
     if (root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
     if (!root.IsMap()) throw std::runtime_error(base_config + ": expected a YAML mapping");
     for (const auto &[key, value] : variant.settings) SetDotted(root, key, value, base_config);

@@ -130,9 +130,10 @@ BenchConfig ParseBenchConfig(const std::string &yaml_text, const std::string &ba
                       "repeats '" + config.sequences.back().name + "'");
         }
     }
-    config.odometry_methods = ReadEnumList(root, "odometry", config.odometry_methods,
-                                           odometry::ParseOdometryMethod);
-    config.map_priors = ReadEnumList(root, "map_priors", config.map_priors, mapping::ParsePriorKind);
+    config.odometry_methods =
+        ReadEnumList(root, "odometry", config.odometry_methods, odometry::ParseOdometryMethod);
+    config.map_priors =
+        ReadEnumList(root, "map_priors", config.map_priors, mapping::ParsePriorKind);
     config.odometry_config = Resolve(base_dir, root.Get<std::string>("odometry_config", ""));
     config.map_config = Resolve(base_dir, root.Get<std::string>("map_config", ""));
     io::YamlSection grid = root.Child("grid");
@@ -168,7 +169,8 @@ BenchConfig LoadBenchConfig(const std::string &path) {
 void WriteVariantConfigs(const BenchConfig &config, const std::string &out_dir) {
     for (const GridVariant &v : GridVariants(config.odometry_grid)) {
         if (!v.name.empty())
-            WriteVariantConfig(config.odometry_config, v, VariantConfigPath(out_dir, "odometry", v));
+            WriteVariantConfig(config.odometry_config, v,
+                               VariantConfigPath(out_dir, "odometry", v));
     }
     for (const GridVariant &v : GridVariants(config.map_grid)) {
         if (!v.name.empty())
@@ -247,8 +249,7 @@ std::vector<BenchRun> PlanBenchmark(const BenchConfig &config, const std::string
             const std::string suffix = variant.name.empty() ? "" : "@" + variant.name;
             for (const mapping::PriorKind prior : config.map_priors) {
                 add_run(RunKind::kMap, std::string("map_") + ToString(prior) + suffix,
-                        {"map", dataset, "--prior", ToString(prior), "--out", "{out}"},
-                        run_config);
+                        {"map", dataset, "--prior", ToString(prior), "--out", "{out}"}, run_config);
             }
         }
     }

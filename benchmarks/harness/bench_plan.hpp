@@ -83,8 +83,8 @@ struct BenchRun {
     /// "odom_doppler", "map_imu+doppler", "map_doppler@max_iterations=5" (a grid variant), ...
     /// ("simulate" for simulations)
     std::string method;
-    std::string dataset;  ///< the DATASET argument of the run
-    std::string ground_truth;  ///< TUM ground truth of its sequence
+    std::string dataset;          ///< the DATASET argument of the run
+    std::string ground_truth;     ///< TUM ground truth of its sequence
     bool has_translation = true;  ///< false for gyro-only odometry (rotation RPE only)
     BenchJob job;
 };

@@ -25,8 +25,8 @@ map_config: mapper.yaml
 TEST(BenchPlan, MatrixHasOneRunPerSequenceAndMethodAfterItsSimulation) {
     const BenchConfig config = ParseBenchConfig(kConfig, "/cfg", "test.yaml");
     EXPECT_EQ(config.jobs, 2u);
-    EXPECT_EQ(config.map_priors,
-              (std::vector<mapping::PriorKind>{mapping::PriorKind::kNone, mapping::PriorKind::kDoppler}));
+    EXPECT_EQ(config.map_priors, (std::vector<mapping::PriorKind>{mapping::PriorKind::kNone,
+                                                                  mapping::PriorKind::kDoppler}));
     EXPECT_EQ(config.association, eval::AssociationMethod::kInterpolate);
     const auto runs = PlanBenchmark(config, "/out");
     // s1: simulate + 3 odometry + 2 map; real: 3 + 2.
@@ -116,8 +116,7 @@ grid:
     EXPECT_EQ(runs[2].method, "map_doppler@max_iterations=5,scan_voxel_m=0.5");
     EXPECT_EQ(runs[7].method, "map_doppler@max_iterations=10,scan_voxel_m=2");
     EXPECT_EQ(runs[7].job.out_dir, "/out/runs/s1/map_doppler@max_iterations=10,scan_voxel_m=2");
-    EXPECT_EQ(runs[7].job.args.back(),
-              "/out/configs/map@max_iterations=10,scan_voxel_m=2.yaml");
+    EXPECT_EQ(runs[7].job.args.back(), "/out/configs/map@max_iterations=10,scan_voxel_m=2.yaml");
     const auto error_of = [](const std::string &yaml) {
         try {
             (void)ParseBenchConfig("sequences: [{name: a, simulate: {}}]\n" + yaml, "/", "g.yaml");
@@ -126,8 +125,9 @@ grid:
         }
         return std::string("no error");
     };
-    EXPECT_NE(error_of("grid: {map: {mapper.max_iterations: []}}").find("grid.map.mapper.max_iterations"),
-              std::string::npos);
+    EXPECT_NE(
+        error_of("grid: {map: {mapper.max_iterations: []}}").find("grid.map.mapper.max_iterations"),
+        std::string::npos);
     EXPECT_NE(error_of("grid: {mapp: {}}").find("did you mean 'map'"), std::string::npos);
     EXPECT_NE(error_of("grid: {map: {a.b: [x/y]}}").find("names a directory"), std::string::npos);
     EXPECT_NE(error_of("association: closest").find("must be interpolate or nearest"),

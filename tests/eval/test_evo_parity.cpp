@@ -74,11 +74,13 @@ struct EvoRpe {
     std::size_t pairs = 0;
 };
 
-EvoRpe EvoRpeFrames(const std::vector<Eigen::Isometry3d> &Q, const std::vector<Eigen::Isometry3d> &P) {
+EvoRpe EvoRpeFrames(const std::vector<Eigen::Isometry3d> &Q,
+                    const std::vector<Eigen::Isometry3d> &P) {
     EvoRpe r;
     double sum_t = 0.0, sum_r = 0.0;
     for (std::size_t i = 0; i + 1 < Q.size(); ++i) {
-        const Eigen::Isometry3d E = (Q[i].inverse() * Q[i + 1]).inverse() * (P[i].inverse() * P[i + 1]);
+        const Eigen::Isometry3d E =
+            (Q[i].inverse() * Q[i + 1]).inverse() * (P[i].inverse() * P[i + 1]);
         const double t = E.translation().norm();
         const double c = std::clamp((E.linear().trace() - 1.0) / 2.0, -1.0, 1.0);
         const double a = std::acos(c) * 180.0 / M_PI;
@@ -105,8 +107,9 @@ void MakeTrajectories(double ref_hz, double est_hz, double jitter_s, Stamped &re
         const double t = k / est_hz + jitter(rng);
         Eigen::Isometry3d T = TruePose(t);
         T.translation() += 0.01 * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
-        T.linear() = T.linear() *
-                     Eigen::AngleAxisd(0.002 * noise(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        T.linear() =
+            T.linear() *
+            Eigen::AngleAxisd(0.002 * noise(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix();
         est.t.push_back(1000.0 + t);
         est.T.push_back(T);
     }
@@ -142,13 +145,13 @@ TEST(EvoParity, NearestMatchesEvoOnJitteredStamps) {
 
     AssociationConfig interpolate;
     const EvoRpe interpolated = Dorado(ref, est, interpolate);
-    std::printf("RPE/frame rmse on +-4 ms jittered 10 Hz stamps: evo %.6f m %.6f deg, nearest "
-                "%.6f m %.6f deg, interpolate %.6f m %.6f deg (%+.2f %% / %+.2f %% vs evo)\n",
-                evo.translation_rmse, evo.rotation_rmse_deg, ours.translation_rmse,
-                ours.rotation_rmse_deg, interpolated.translation_rmse,
-                interpolated.rotation_rmse_deg,
-                100.0 * (interpolated.translation_rmse / evo.translation_rmse - 1.0),
-                100.0 * (interpolated.rotation_rmse_deg / evo.rotation_rmse_deg - 1.0));
+    std::printf(
+        "RPE/frame rmse on +-4 ms jittered 10 Hz stamps: evo %.6f m %.6f deg, nearest "
+        "%.6f m %.6f deg, interpolate %.6f m %.6f deg (%+.2f %% / %+.2f %% vs evo)\n",
+        evo.translation_rmse, evo.rotation_rmse_deg, ours.translation_rmse, ours.rotation_rmse_deg,
+        interpolated.translation_rmse, interpolated.rotation_rmse_deg,
+        100.0 * (interpolated.translation_rmse / evo.translation_rmse - 1.0),
+        100.0 * (interpolated.rotation_rmse_deg / evo.rotation_rmse_deg - 1.0));
     // The two associations differ measurably here: the test could not pass with either.
     EXPECT_GT(std::abs(interpolated.translation_rmse / evo.translation_rmse - 1.0), 1e-3);
 }
