@@ -19,6 +19,8 @@
 #include "bench_report.hpp"
 #include "bench_runner.hpp"
 #include "commands.hpp"
+#include "dorado/config/map_config.hpp"
+#include "dorado/config/odometry_config.hpp"
 #include "dorado/io/atomic_file.hpp"
 #include "progress.hpp"
 
@@ -211,6 +213,23 @@ void Report(const std::vector<BenchRun> &runs, const std::vector<JobOutcome> &ou
     if (!plot_error.empty()) throw std::runtime_error(plot_error);
 }
 
+// Writes the grid variants' config files and reads each back as its command will, so that a
+// misspelled grid key stops the sweep before any run, naming the key.
+void WriteAndCheckVariantConfigs(const BenchConfig &config, const std::string &out_dir) {
+    WriteVariantConfigs(config, out_dir);
+    try {
+        for (const GridVariant &v : GridVariants(config.odometry_grid)) {
+            if (!v.name.empty())
+                (void)config::LoadOdometryConfig(VariantConfigPath(out_dir, "odometry", v));
+        }
+        for (const GridVariant &v : GridVariants(config.map_grid)) {
+            if (!v.name.empty()) (void)config::LoadMapConfig(VariantConfigPath(out_dir, "map", v));
+        }
+    } catch (const std::exception &e) {
+        throw std::runtime_error(std::string("grid: ") + e.what());
+    }
+}
+
 void RunBench(const BenchOptions &o) {
     if (o.plan_only + o.score_only + !o.run_one.empty() > 1) {
         throw std::invalid_argument("--plan-only, --score-only and --run-one exclude each other");
@@ -220,7 +239,7 @@ void RunBench(const BenchOptions &o) {
     const std::string out_dir = fs::canonical(o.out_dir).string();
     const std::vector<BenchRun> runs = PlanBenchmark(config, out_dir);
     // Not by --run-one or --score-only: a workflow's jobs run at the same time, after the plan.
-    if (o.run_one.empty() && !o.score_only) WriteVariantConfigs(config, out_dir);
+    if (o.run_one.empty() && !o.score_only) WriteAndCheckVariantConfigs(config, out_dir);
     if (o.plan_only) return PrintPlan(runs, out_dir);
     if (!o.run_one.empty()) return RunOne(runs, o.run_one, out_dir);
     const std::vector<JobOutcome> outcomes =

@@ -30,6 +30,7 @@ same_as_bench() {
     diff <(scores "$reference") <(scores "$1/results.csv") ||
         fail "$1/results.csv differs from dorado bench's $reference"
     echo "$1/results.csv: $(scores "$1/results.csv" | wc -l) lines, identical to dorado bench's"
+    grep -q "(association: interpolate" "$1/results.md" || fail "$1/results.md does not name the association"
 }
 
 run_bench() {
