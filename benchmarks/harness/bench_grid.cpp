@@ -3,6 +3,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 
 #include "dorado/io/atomic_file.hpp"
@@ -74,15 +76,21 @@ void WriteVariantConfig(const std::string &base_config, const GridVariant &varia
     if (root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
     if (!root.IsMap()) throw std::runtime_error(base_config + ": expected a YAML mapping");
     for (const auto &[key, value] : variant.settings) SetDotted(root, key, value, base_config);
-    io::MakeDirectories(fs::path(path).parent_path().string());
     YAML::Emitter out;
     out << root;
-    io::WriteFileAtomically(path, [&](std::ostream &os) {
-        os << "# grid variant " << variant.name << " of "
-           << (base_config.empty() ? "the built-in defaults" : base_config)
-           << " (written by dorado bench)\n"
-           << out.c_str() << "\n";
-    });
+    const std::string text = "# grid variant " + variant.name + " of " +
+                             (base_config.empty() ? "the built-in defaults" : base_config) +
+                             " (written by dorado bench)\n" + out.c_str() + "\n";
+    // Unchanged files are left alone: on a cluster every job re-reads the plan (Snakemake parses
+    // the Snakefile again in each job), and concurrent rewrites of one file would race.
+    std::ifstream existing(path, std::ios::binary);
+    if (existing) {
+        const std::string current((std::istreambuf_iterator<char>(existing)),
+                                  std::istreambuf_iterator<char>());
+        if (current == text) return;
+    }
+    io::MakeDirectories(fs::path(path).parent_path().string());
+    io::WriteFileAtomically(path, [&](std::ostream &os) { os << text; });
 }
 
 }  // namespace dorado::apps
