@@ -1,12 +1,17 @@
 // `dorado bench [CONFIG] --out DIR`: the paper's matrix of sequences x methods, run as child
 // processes of this same program, scored against the ground truth, tabulated and plotted.
+// For a workflow engine (workflow/Snakefile): --plan-only prints the runs as JSON, --run-one runs
+// one of them, --score-only writes the report from the runs found on disk.
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <thread>
 
@@ -14,6 +19,8 @@
 #include "bench_report.hpp"
 #include "bench_runner.hpp"
 #include "commands.hpp"
+#include "dorado/config/map_config.hpp"
+#include "dorado/config/odometry_config.hpp"
 #include "dorado/io/atomic_file.hpp"
 #include "progress.hpp"
 
@@ -28,7 +35,12 @@ struct BenchOptions {
     std::string out_dir;
     std::size_t jobs = 0;
     bool no_plot = false;
-    std::string reference;  ///< empty: the config's
+    std::string reference;      ///< empty: the config's
+    std::string association;    ///< empty: the config's
+    double t_max_diff_s = 0.0;  ///< 0: the config's
+    bool plan_only = false;
+    bool score_only = false;
+    std::string run_one;  ///< a run's name, "<sequence>/<method>"
 };
 
 // The default config from the current directory, else from the source tree dorado was built in.
@@ -56,19 +68,66 @@ std::string Plot(const std::string &out_dir) {
     return "the plot script failed (" + script.string() + ")";
 }
 
-void RunBench(const BenchOptions &o) {
-    const std::string config_path = FindConfig(o.config_path);
-    BenchConfig config = LoadBenchConfig(config_path);
+BenchConfig LoadConfig(const BenchOptions &o) {
+    BenchConfig config = LoadBenchConfig(FindConfig(o.config_path));
     if (o.jobs > 0) config.jobs = o.jobs;
     if (!o.reference.empty()) config.reference = ParseBenchReference(o.reference);
+    if (!o.association.empty()) config.association = eval::ParseAssociationMethod(o.association);
+    if (o.t_max_diff_s > 0.0) config.t_max_diff_s = o.t_max_diff_s;
     if (config.jobs == 0) config.jobs = std::max(1u, std::thread::hardware_concurrency());
-    io::MakeDirectories(o.out_dir);
-    const std::string out_dir = fs::canonical(o.out_dir).string();
+    return config;
+}
 
-    const std::vector<BenchRun> runs = PlanBenchmark(config, out_dir);
+// The runs as JSON for a workflow engine: name, output directory, marker, dependencies (names)
+// and the command line ("{out}" is the temporary directory).
+void PrintPlan(const std::vector<BenchRun> &runs, const std::string &out_dir) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const BenchRun &run : runs) {
+        std::vector<std::string> depends_on;
+        for (const std::size_t d : run.job.depends_on) depends_on.push_back(runs[d].job.name);
+        list.push_back({{"name", run.job.name},
+                        {"sequence", run.sequence},
+                        {"method", run.method},
+                        {"kind", run.kind == RunKind::kSimulate   ? "simulate"
+                                 : run.kind == RunKind::kOdometry ? "odometry"
+                                                                  : "map"},
+                        {"out_dir", run.job.out_dir},
+                        {"marker", run.job.marker},
+                        {"depends_on", depends_on},
+                        {"args", run.job.args}});
+    }
+    std::cout << nlohmann::json{{"out", out_dir}, {"runs", list}}.dump(1) << "\n";
+}
+
+// One run, as `dorado bench` runs it (temporary directory, published by a rename when it
+// succeeded); its dependencies must be done already.
+void RunOne(const std::vector<BenchRun> &runs, const std::string &name, const std::string &out) {
+    const auto it = std::find_if(runs.begin(), runs.end(),
+                                 [&](const BenchRun &r) { return r.job.name == name; });
+    if (it == runs.end()) throw std::runtime_error("--run-one: no run named '" + name + "'");
+    BenchJob job = it->job;
+    for (const std::size_t d : job.depends_on) {
+        if (!fs::exists(fs::path(runs[d].job.out_dir) / runs[d].job.marker)) {
+            throw std::runtime_error("--run-one " + name + ": needs " + runs[d].job.name +
+                                     ", which is not done");
+        }
+    }
+    job.depends_on.clear();
+    RunnerOptions runner;
+    runner.program = SelfExecutablePath();
+    runner.log_dir = (fs::path(out) / "logs").string();
+    const JobOutcome outcome = RunJobs({job}, runner).front();
+    if (outcome.status == JobStatus::kFailed)
+        throw std::runtime_error(name + ": " + outcome.message);
+    std::fprintf(stderr, "bench: %s %s\n", name.c_str(),
+                 outcome.status == JobStatus::kAlreadyDone ? "already done" : "done");
+}
+
+// Runs the matrix on this machine; returns one outcome per run.
+std::vector<JobOutcome> RunAll(const std::vector<BenchRun> &runs, const BenchConfig &config,
+                               const std::string &out_dir) {
     std::vector<BenchJob> jobs;
     for (const BenchRun &run : runs) jobs.push_back(run.job);
-
     RunnerOptions runner;
     runner.program = SelfExecutablePath();
     runner.workers = config.jobs;
@@ -96,26 +155,47 @@ void RunBench(const BenchOptions &o) {
     };
     std::fprintf(stderr, "bench: %zu runs (%zu sequences) on %zu parallel jobs, results in %s\n",
                  jobs.size(), config.sequences.size(), config.jobs, out_dir.c_str());
-    const std::vector<JobOutcome> outcomes = RunJobs(jobs, runner);
+    std::vector<JobOutcome> outcomes = RunJobs(jobs, runner);
     progress.Finish();
+    return outcomes;
+}
 
+// --score-only: the runs found finished on disk; the others count as failed (not run).
+std::vector<JobOutcome> OutcomesOnDisk(const std::vector<BenchRun> &runs) {
+    std::vector<JobOutcome> outcomes;
+    for (const BenchRun &run : runs) {
+        const bool done = fs::exists(fs::path(run.job.out_dir) / run.job.marker);
+        outcomes.push_back(
+            {done ? JobStatus::kAlreadyDone : JobStatus::kFailed, 0.0,
+             done ? "" : "not run (no " + run.job.out_dir + "/" + run.job.marker + ")"});
+    }
+    return outcomes;
+}
+
+void Report(const std::vector<BenchRun> &runs, const std::vector<JobOutcome> &outcomes,
+            const BenchConfig &config, const std::string &out_dir, bool no_plot) {
     const std::vector<RunEvaluation> evaluations = EvaluateRuns(runs, outcomes, config);
     WriteReport(evaluations, config, out_dir);
     std::fprintf(stderr, "bench: wrote %s/results.md, results.csv, rpe_pairs.csv\n",
                  out_dir.c_str());
 
     std::string plot_error;
-    if (!o.no_plot) {
+    if (!no_plot) {
         plot_error = Plot(out_dir);
         if (plot_error.empty())
             std::fprintf(stderr, "bench: figures in %s/plots/\n", out_dir.c_str());
     }
     std::size_t failed = 0;
-    for (const JobOutcome &outcome : outcomes) failed += outcome.status == JobStatus::kFailed;
+    std::string first_failure;
+    for (std::size_t i = 0; i < outcomes.size(); ++i) {
+        if (outcomes[i].status != JobStatus::kFailed) continue;
+        if (failed++ == 0) first_failure = runs[i].job.name + ": " + outcomes[i].message;
+    }
     if (failed > 0) {
-        throw std::runtime_error(std::to_string(failed) + " of " + std::to_string(jobs.size()) +
-                                 " runs failed (logs in " + runner.log_dir +
-                                 "); the report covers the others");
+        throw std::runtime_error(
+            std::to_string(failed) + " of " + std::to_string(runs.size()) +
+            " runs failed (logs in " + out_dir +
+            "/logs); the report covers the others; the first: " + first_failure);
     }
     // Runs that finished but could not be scored (no ground truth at their stamps, a missing
     // reference file): the report lists them; the exit status says the matrix is incomplete.
@@ -133,6 +213,40 @@ void RunBench(const BenchOptions &o) {
     if (!plot_error.empty()) throw std::runtime_error(plot_error);
 }
 
+// Writes the grid variants' config files and reads each back as its command will, so that a
+// misspelled grid key stops the sweep before any run, naming the key.
+void WriteAndCheckVariantConfigs(const BenchConfig &config, const std::string &out_dir) {
+    WriteVariantConfigs(config, out_dir);
+    try {
+        for (const GridVariant &v : GridVariants(config.odometry_grid)) {
+            if (!v.name.empty())
+                (void)config::LoadOdometryConfig(VariantConfigPath(out_dir, "odometry", v));
+        }
+        for (const GridVariant &v : GridVariants(config.map_grid)) {
+            if (!v.name.empty()) (void)config::LoadMapConfig(VariantConfigPath(out_dir, "map", v));
+        }
+    } catch (const std::exception &e) {
+        throw std::runtime_error(std::string("grid: ") + e.what());
+    }
+}
+
+void RunBench(const BenchOptions &o) {
+    if (o.plan_only + o.score_only + !o.run_one.empty() > 1) {
+        throw std::invalid_argument("--plan-only, --score-only and --run-one exclude each other");
+    }
+    const BenchConfig config = LoadConfig(o);
+    io::MakeDirectories(o.out_dir);
+    const std::string out_dir = fs::canonical(o.out_dir).string();
+    const std::vector<BenchRun> runs = PlanBenchmark(config, out_dir);
+    // Not by --run-one or --score-only: a workflow's jobs run at the same time, after the plan.
+    if (o.run_one.empty() && !o.score_only) WriteAndCheckVariantConfigs(config, out_dir);
+    if (o.plan_only) return PrintPlan(runs, out_dir);
+    if (!o.run_one.empty()) return RunOne(runs, o.run_one, out_dir);
+    const std::vector<JobOutcome> outcomes =
+        o.score_only ? OutcomesOnDisk(runs) : RunAll(runs, config, out_dir);
+    Report(runs, outcomes, config, out_dir, o.no_plot);
+}
+
 }  // namespace
 
 void RegisterBenchCommand(CLI::App &app) {
@@ -141,7 +255,8 @@ void RegisterBenchCommand(CLI::App &app) {
         "bench",
         "Run a benchmark matrix (sequences x odometry methods and mapper priors) in parallel, "
         "score it against the ground truth and write results.md/.csv and the paper's figures. "
-        "Finished runs are kept: running it again only redoes what is missing.");
+        "Finished runs are kept: running it again only redoes what is missing. A parameter grid "
+        "(grid: in the YAML) makes every point a variant of each method.");
     cmd->add_option("config", options->config_path, "benchmark YAML")->capture_default_str();
     cmd->add_option("--out", options->out_dir, "output directory")->required();
     cmd->add_option("--jobs", options->jobs,
@@ -151,6 +266,20 @@ void RegisterBenchCommand(CLI::App &app) {
                     "score against the recorded ground truth (ground_truth, the default) or, for "
                     "simulated sequences, the exact trajectory (exact)")
         ->check(CLI::IsMember({"ground_truth", "exact"}));
+    cmd->add_option("--association", options->association,
+                    "interpolate: ground truth interpolated at each estimated stamp (default); "
+                    "nearest: evo's nearest stamp within --t_max_diff")
+        ->check(CLI::IsMember({"interpolate", "nearest"}));
+    cmd->add_option("--t_max_diff", options->t_max_diff_s,
+                    "nearest: largest stamp difference [s] (default: the config's, else 0.01)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_flag("--plan-only", options->plan_only,
+                  "print the runs as JSON (for workflow/Snakefile) and write the grid variants' "
+                  "config files; run nothing");
+    cmd->add_option("--run-one", options->run_one,
+                    "run only the run named SEQUENCE/METHOD (its dependencies must be done)");
+    cmd->add_flag("--score-only", options->score_only,
+                  "run nothing: score the runs found finished in --out and write the report");
     cmd->callback([options] { RunBench(*options); });
 }
 

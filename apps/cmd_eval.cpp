@@ -25,6 +25,7 @@ struct EvalOptions {
     std::string association = "interpolate";
     double max_gap_s = 0.5;
     double max_diff_s = 0.01;
+    double t_offset_s = 0.0;
     bool sim3 = false;
     std::string json_path;
 };
@@ -54,7 +55,8 @@ void RunEval(const EvalOptions &o) {
     const Trajectory reference = io::ReadTum(o.gt_path);
     const Trajectory estimate = io::ReadTum(o.est_path);
     eval::AssociationConfig association;
-    if (o.association == "nearest") association.method = eval::AssociationMethod::kNearest;
+    association.method = eval::ParseAssociationMethod(o.association);
+    association.t_offset_ns = static_cast<int64_t>(std::llround(o.t_offset_s * 1e9));
     association.max_gap_ns = SecondsToNanosChecked(o.max_gap_s, "--max-gap");
     association.max_time_diff_ns = SecondsToNanosChecked(o.max_diff_s, "--max-diff");
     const eval::AssociatedPoses poses = eval::Associate(reference, estimate, association);
@@ -132,7 +134,11 @@ void RegisterEvalCommand(CLI::App &app) {
     cmd->add_option("--max-gap", options->max_gap_s,
                     "interpolate: largest ground-truth gap bridged [s]")
         ->capture_default_str();
-    cmd->add_option("--max-diff", options->max_diff_s, "nearest: largest stamp difference [s]")
+    cmd->add_option("--t_max_diff,--max-diff", options->max_diff_s,
+                    "nearest: largest stamp difference [s] (evo's --t_max_diff)")
+        ->capture_default_str();
+    cmd->add_option("--t_offset", options->t_offset_s,
+                    "nearest: added to the estimated stamps before matching [s] (evo's --t_offset)")
         ->capture_default_str();
     cmd->add_flag("--sim3", options->sim3, "ATE with Sim(3) (scale) alignment instead of SE(3)");
     cmd->add_option("--json", options->json_path, "also write the statistics as JSON");

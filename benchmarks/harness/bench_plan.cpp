@@ -2,7 +2,6 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -18,89 +17,86 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::vector<std::string> kOdometryMethods{"imu", "doppler", "imu+doppler"};
-const std::vector<std::string> kMapPriors{"none", "constvel", "imu", "doppler", "imu+doppler"};
-
-[[noreturn]] void Fail(const std::string &origin, const std::string &key, const std::string &what) {
-    throw std::runtime_error(origin + ": " + key + ": " + what);
-}
-
 std::string Resolve(const std::string &base_dir, const std::string &path) {
     if (path.empty() || fs::path(path).is_absolute()) return path;
     return (fs::path(base_dir) / path).lexically_normal().string();
 }
 
-template <typename T>
-T Get(const YAML::Node &node, const std::string &key, const T &fallback, const std::string &origin,
-      const std::string &where) {
-    if (!node[key]) return fallback;
-    try {
-        return node[key].as<T>();
-    } catch (const YAML::Exception &) {
-        Fail(origin, where + key, "has the wrong type");
-    }
-}
-
-std::vector<std::string> GetMethods(const YAML::Node &root, const std::string &key,
-                                    const std::vector<std::string> &allowed,
-                                    const std::string &origin) {
-    const auto methods = Get<std::vector<std::string>>(root, key, allowed, origin, "");
-    for (const std::string &m : methods) {
-        if (std::find(allowed.begin(), allowed.end(), m) == allowed.end()) {
-            std::string list;
-            for (const auto &a : allowed) list += (list.empty() ? "" : ", ") + a;
-            Fail(origin, key, "unknown method '" + m + "' (expected one of: " + list + ")");
+// A list of enum names read through the library's parser ("unknown ... expected one of").
+template <typename E, typename Parse>
+std::vector<E> ReadEnumList(io::YamlSection &root, const std::string &key,
+                            const std::vector<E> &fallback, Parse parse) {
+    if (!root.Has(key)) return fallback;
+    std::vector<E> values;
+    for (const std::string &name : root.Get<std::vector<std::string>>(key, {})) {
+        try {
+            values.push_back(parse(name));
+        } catch (const std::invalid_argument &e) {
+            root.Fail(key, "unknown method '" + name + "': " + e.what());
         }
     }
-    return methods;
-}
-
-// A misspelled key must not silently fall back to a default: dorado_io's strict section
-// reports the first unknown key with the nearest known one.
-void RejectUnknownKeys(const YAML::Node &node, std::initializer_list<const char *> known,
-                       const std::string &origin, const std::string &where) {
-    io::YamlSection section(node, origin, where);
-    for (const char *key : known) (void)section.Has(key);
-    section.RejectUnknownKeys();
+    return values;
 }
 
 BenchSequence ParseSequence(const YAML::Node &node, std::size_t index, const std::string &base_dir,
                             const std::string &origin) {
-    const std::string where = "sequences[" + std::to_string(index) + "].";
+    io::YamlSection section(node, origin, "sequences[" + std::to_string(index) + "]");
     BenchSequence s;
-    s.name = Get<std::string>(node, "name", "", origin, where);
-    if (s.name.empty() || s.name.find_first_of("/\\ ") != std::string::npos) {
-        Fail(origin, where + "name", "must be a non-empty name without '/' or spaces");
+    s.name = section.Get<std::string>("name", "");
+    if (s.name.empty() || s.name.find_first_of("/\\ @") != std::string::npos) {
+        section.Fail("name", "must be a non-empty name without '/', '@' or spaces");
     }
-    RejectUnknownKeys(node, {"name", "simulate", "dataset", "ground_truth"}, origin,
-                      where.substr(0, where.size() - 1));
-    if (node["simulate"]) {
-        const YAML::Node sim = node["simulate"];
-        const std::string sim_where = where + "simulate.";
-        RejectUnknownKeys(sim, {"sequence", "seed", "duration_s"}, origin,
-                          sim_where.substr(0, sim_where.size() - 1));
-        s.simulate_sequence = Get<std::string>(sim, "sequence", s.name, origin, sim_where);
-        s.seed = Get<int64_t>(sim, "seed", 1, origin, sim_where);
-        s.duration_s = Get<double>(sim, "duration_s", 0.0, origin, sim_where);
+    // A misspelled key is reported before the checks that it would make fail.
+    for (const char *key : {"simulate", "dataset", "ground_truth"}) (void)section.Has(key);
+    section.RejectUnknownKeys();
+    if (section.Has("simulate")) {
+        io::YamlSection sim = section.Child("simulate");
+        s.simulate_sequence = sim.Get<std::string>("sequence", s.name);
+        s.seed = sim.Get<int64_t>("seed", 1);
+        s.duration_s = sim.Get<double>("duration_s", 0.0);
         if (!(s.duration_s >= 0.0) || !std::isfinite(s.duration_s)) {
-            Fail(origin, sim_where + "duration_s", "must be >= 0 (0: the simulator's default)");
+            sim.Fail("duration_s", "must be >= 0 (0: the simulator's default)");
         }
+        sim.RejectUnknownKeys();
         // A sequence file given relative to the config.
         if (s.simulate_sequence.size() > 5 &&
             s.simulate_sequence.substr(s.simulate_sequence.size() - 5) == ".yaml") {
             s.simulate_sequence = Resolve(base_dir, s.simulate_sequence);
         }
     } else {
-        s.dataset = Resolve(base_dir, Get<std::string>(node, "dataset", "", origin, where));
-        s.ground_truth =
-            Resolve(base_dir, Get<std::string>(node, "ground_truth", "", origin, where));
+        s.dataset = Resolve(base_dir, section.Get<std::string>("dataset", ""));
+        s.ground_truth = Resolve(base_dir, section.Get<std::string>("ground_truth", ""));
         if (s.dataset.empty() || s.ground_truth.empty()) {
-            Fail(origin, where + "dataset",
-                 "a sequence needs `simulate:` or both `dataset:` and "
-                 "`ground_truth:`");
+            section.Fail("dataset",
+                         "a sequence needs `simulate:` or both `dataset:` and `ground_truth:`");
         }
     }
     return s;
+}
+
+// grid.<kind>: {dotted.key: [v1, v2], ...}; values are scalars without '/', ',' or '@'.
+std::vector<GridAxis> ParseGrid(io::YamlSection &grid, const YAML::Node &node,
+                                const std::string &kind) {
+    std::vector<GridAxis> axes;
+    if (!grid.Has(kind)) return axes;
+    if (!node.IsMap()) grid.Fail(kind, "must map config keys to lists of values");
+    for (const auto &entry : node) {
+        GridAxis axis{entry.first.as<std::string>(), {}};
+        const std::string key = kind + "." + axis.key;
+        if (!entry.second.IsSequence() || entry.second.size() == 0) {
+            grid.Fail(key, "must be a non-empty list of values");
+        }
+        for (const auto &value : entry.second) {
+            if (!value.IsScalar()) grid.Fail(key, "values must be numbers, words or booleans");
+            axis.values.push_back(value.Scalar());
+            if (axis.values.back().find_first_of("/\\,@ ") != std::string::npos) {
+                grid.Fail(key, "value '" + axis.values.back() +
+                                   "' names a directory: no '/', ',', '@' or spaces");
+            }
+        }
+        axes.push_back(std::move(axis));
+    }
+    return axes;
 }
 
 std::string FormatNumber(double value) {
@@ -113,52 +109,52 @@ std::string FormatNumber(double value) {
 
 BenchConfig ParseBenchConfig(const std::string &yaml_text, const std::string &base_dir,
                              const std::string &origin) {
-    YAML::Node root;
+    YAML::Node node;
     try {
-        root = YAML::Load(yaml_text);
+        node = YAML::Load(yaml_text);
     } catch (const YAML::Exception &e) {
         throw std::runtime_error(origin + ": not valid YAML: " + e.what());
     }
-    if (!root.IsMap()) throw std::runtime_error(origin + ": expected a YAML mapping");
-    RejectUnknownKeys(
-        root,
-        {"sequences", "odometry", "map_priors", "odometry_config", "map_config", "jobs",
-         "association_max_gap_s", "rpe_frame_delta", "rpe_second_delta_s", "reference"},
-        origin, "");
+    if (!node.IsMap()) throw std::runtime_error(origin + ": expected a YAML mapping");
+    io::YamlSection root(node, origin);
     BenchConfig config;
-    if (!root["sequences"] || !root["sequences"].IsSequence() || root["sequences"].size() == 0) {
-        Fail(origin, "sequences", "a non-empty list of sequences is required");
+    if (!root.Has("sequences") || !node["sequences"].IsSequence() ||
+        node["sequences"].size() == 0) {
+        root.Fail("sequences", "a non-empty list of sequences is required");
     }
     std::set<std::string> names;
-    for (std::size_t i = 0; i < root["sequences"].size(); ++i) {
-        config.sequences.push_back(ParseSequence(root["sequences"][i], i, base_dir, origin));
+    for (std::size_t i = 0; i < node["sequences"].size(); ++i) {
+        config.sequences.push_back(ParseSequence(node["sequences"][i], i, base_dir, origin));
         if (!names.insert(config.sequences.back().name).second) {
-            Fail(origin, "sequences[" + std::to_string(i) + "].name",
-                 "repeats '" + config.sequences.back().name + "'");
+            root.Fail("sequences[" + std::to_string(i) + "].name",
+                      "repeats '" + config.sequences.back().name + "'");
         }
     }
-    config.odometry_methods = GetMethods(root, "odometry", kOdometryMethods, origin);
-    config.map_priors = GetMethods(root, "map_priors", kMapPriors, origin);
-    config.odometry_config =
-        Resolve(base_dir, Get<std::string>(root, "odometry_config", "", origin, ""));
-    config.map_config = Resolve(base_dir, Get<std::string>(root, "map_config", "", origin, ""));
-    const int jobs = Get<int>(root, "jobs", 0, origin, "");
-    if (jobs < 0) Fail(origin, "jobs", "must be >= 0 (0: the number of cores)");
-    config.jobs = static_cast<std::size_t>(jobs);
-    config.association_max_gap_s =
-        Get<double>(root, "association_max_gap_s", config.association_max_gap_s, origin, "");
-    if (!(config.association_max_gap_s > 0.0)) Fail(origin, "association_max_gap_s", "must be > 0");
-    config.rpe_frame_delta = Get<int>(root, "rpe_frame_delta", config.rpe_frame_delta, origin, "");
-    if (config.rpe_frame_delta < 1) Fail(origin, "rpe_frame_delta", "must be >= 1");
-    config.rpe_second_delta_s =
-        Get<double>(root, "rpe_second_delta_s", config.rpe_second_delta_s, origin, "");
-    if (!(config.rpe_second_delta_s > 0.0)) Fail(origin, "rpe_second_delta_s", "must be > 0");
-    try {
-        config.reference =
-            ParseBenchReference(Get<std::string>(root, "reference", "ground_truth", origin, ""));
-    } catch (const std::invalid_argument &e) {
-        Fail(origin, "reference", e.what());
+    config.odometry_methods =
+        ReadEnumList(root, "odometry", config.odometry_methods, odometry::ParseOdometryMethod);
+    config.map_priors =
+        ReadEnumList(root, "map_priors", config.map_priors, mapping::ParsePriorKind);
+    config.odometry_config = Resolve(base_dir, root.Get<std::string>("odometry_config", ""));
+    config.map_config = Resolve(base_dir, root.Get<std::string>("map_config", ""));
+    io::YamlSection grid = root.Child("grid");
+    if (root.Has("grid")) {
+        const YAML::Node grid_node = node["grid"];
+        config.odometry_grid = ParseGrid(grid, grid_node["odometry"], "odometry");
+        config.map_grid = ParseGrid(grid, grid_node["map"], "map");
     }
+    grid.RejectUnknownKeys();
+    const int jobs = root.Get<int>("jobs", 0);
+    if (jobs < 0) root.Fail("jobs", "must be >= 0 (0: the number of cores)");
+    config.jobs = static_cast<std::size_t>(jobs);
+    root.ReadParsed("association", config.association, eval::ParseAssociationMethod);
+    config.association_max_gap_s =
+        root.GetPositive("association_max_gap_s", config.association_max_gap_s);
+    config.t_max_diff_s = root.GetPositive("t_max_diff_s", config.t_max_diff_s);
+    config.rpe_frame_delta = root.Get<int>("rpe_frame_delta", config.rpe_frame_delta);
+    if (config.rpe_frame_delta < 1) root.Fail("rpe_frame_delta", "must be >= 1");
+    config.rpe_second_delta_s = root.GetPositive("rpe_second_delta_s", config.rpe_second_delta_s);
+    root.ReadParsed("reference", config.reference, ParseBenchReference);
+    root.RejectUnknownKeys();
     return config;
 }
 
@@ -168,6 +164,18 @@ BenchConfig LoadBenchConfig(const std::string &path) {
     std::stringstream text;
     text << in.rdbuf();
     return ParseBenchConfig(text.str(), fs::path(path).parent_path().string(), path);
+}
+
+void WriteVariantConfigs(const BenchConfig &config, const std::string &out_dir) {
+    for (const GridVariant &v : GridVariants(config.odometry_grid)) {
+        if (!v.name.empty())
+            WriteVariantConfig(config.odometry_config, v,
+                               VariantConfigPath(out_dir, "odometry", v));
+    }
+    for (const GridVariant &v : GridVariants(config.map_grid)) {
+        if (!v.name.empty())
+            WriteVariantConfig(config.map_config, v, VariantConfigPath(out_dir, "map", v));
+    }
 }
 
 BenchReference ParseBenchReference(const std::string &text) {
@@ -196,7 +204,7 @@ std::vector<BenchRun> PlanBenchmark(const BenchConfig &config, const std::string
                 (data_dir / (config.reference == BenchReference::kExact ? "true_trajectory.tum"
                                                                         : "ground_truth.tum"))
                     .string();
-            BenchRun sim{RunKind::kSimulate, seq.name, "simulate", dataset, ground_truth, {}};
+            BenchRun sim{RunKind::kSimulate, seq.name, "simulate", dataset, ground_truth, true, {}};
             sim.job = {seq.name + "/simulate",
                        data_dir.string(),
                        "simulation.json",
@@ -211,25 +219,38 @@ std::vector<BenchRun> PlanBenchmark(const BenchConfig &config, const std::string
             runs.push_back(sim);
         }
         const auto add_run = [&](RunKind kind, const std::string &method,
-                                 std::vector<std::string> args, const std::string &run_config) {
+                                 std::vector<std::string> args, const std::string &run_config,
+                                 bool has_translation = true) {
             if (!run_config.empty()) {
                 args.push_back("--config");
                 args.push_back(run_config);
             }
-            BenchRun run{kind, seq.name, method, dataset, ground_truth, {}};
+            BenchRun run{kind, seq.name, method, dataset, ground_truth, has_translation, {}};
             run.job = {seq.name + "/" + method, (out / "runs" / seq.name / method).string(),
                        "summary.json", std::move(args), depends_on};
             runs.push_back(std::move(run));
         };
-        for (const std::string &m : config.odometry_methods) {
-            // The paper's three: gyro-only rotation ("IMU"), Doppler only, IMU + Doppler.
-            add_run(RunKind::kOdometry, "odom_" + m,
-                    {"odometry", dataset, "--out", "{out}", "--method", m},
-                    config.odometry_config);
+        for (const GridVariant &variant : GridVariants(config.odometry_grid)) {
+            const std::string run_config = variant.name.empty()
+                                               ? config.odometry_config
+                                               : VariantConfigPath(out_dir, "odometry", variant);
+            const std::string suffix = variant.name.empty() ? "" : "@" + variant.name;
+            for (const odometry::OdometryMethod m : config.odometry_methods) {
+                // The paper's three: gyro-only rotation ("IMU"), Doppler only, IMU + Doppler.
+                add_run(RunKind::kOdometry, std::string("odom_") + ToString(m) + suffix,
+                        {"odometry", dataset, "--out", "{out}", "--method", ToString(m)},
+                        run_config, m != odometry::OdometryMethod::kImu);
+            }
         }
-        for (const std::string &prior : config.map_priors) {
-            add_run(RunKind::kMap, "map_" + prior,
-                    {"map", dataset, "--prior", prior, "--out", "{out}"}, config.map_config);
+        for (const GridVariant &variant : GridVariants(config.map_grid)) {
+            const std::string run_config = variant.name.empty()
+                                               ? config.map_config
+                                               : VariantConfigPath(out_dir, "map", variant);
+            const std::string suffix = variant.name.empty() ? "" : "@" + variant.name;
+            for (const mapping::PriorKind prior : config.map_priors) {
+                add_run(RunKind::kMap, std::string("map_") + ToString(prior) + suffix,
+                        {"map", dataset, "--prior", ToString(prior), "--out", "{out}"}, run_config);
+            }
         }
     }
     return runs;

@@ -4,11 +4,16 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "bench_grid.hpp"
 #include "bench_runner.hpp"
+#include "dorado/eval/association.hpp"
+#include "dorado/mapping/motion_prior.hpp"
+#include "dorado/odometry/doppler_odometry.hpp"
 
 namespace dorado::apps {
 
@@ -39,13 +44,24 @@ enum class BenchReference {
 struct BenchConfig {
     std::vector<BenchSequence> sequences;
     /// Odometry methods (paper Fig. 5): imu (gyro rotation only), doppler, imu+doppler.
-    std::vector<std::string> odometry_methods{"imu", "doppler", "imu+doppler"};
+    std::vector<odometry::OdometryMethod> odometry_methods{odometry::OdometryMethod::kImu,
+                                                           odometry::OdometryMethod::kDoppler,
+                                                           odometry::OdometryMethod::kImuDoppler};
     /// Mapper priors (paper Fig. 6, 7): none, constvel, imu, doppler, imu+doppler.
-    std::vector<std::string> map_priors{"none", "constvel", "imu", "doppler", "imu+doppler"};
-    std::string odometry_config;         ///< optional --config for `dorado odometry`
-    std::string map_config;              ///< optional --config for `dorado map`
-    std::size_t jobs = 0;                ///< parallel runs; 0 = the number of cores
+    std::vector<mapping::PriorKind> map_priors{std::begin(mapping::kAllPriorKinds),
+                                               std::end(mapping::kAllPriorKinds)};
+    std::string odometry_config;  ///< optional --config for `dorado odometry`
+    std::string map_config;       ///< optional --config for `dorado map`
+    /// Parameter grids (YAML `grid: {odometry: {...}, map: {...}}`): dotted keys of the
+    /// odometry / map config file, each with a list of values; every point is a variant.
+    std::vector<GridAxis> odometry_grid;
+    std::vector<GridAxis> map_grid;
+    std::size_t jobs = 0;  ///< parallel runs; 0 = the number of cores
+    /// interpolate: ground truth interpolated at each estimated stamp (within
+    /// association_max_gap_s); nearest: evo's nearest stamp within t_max_diff_s.
+    eval::AssociationMethod association = eval::AssociationMethod::kInterpolate;
     double association_max_gap_s = 0.5;  ///< ground-truth interpolation gap limit
+    double t_max_diff_s = 0.01;          ///< nearest: evo's --t_max_diff
     int rpe_frame_delta = 1;
     double rpe_second_delta_s = 1.0;
     BenchReference reference = BenchReference::kGroundTruth;
@@ -64,16 +80,23 @@ enum class RunKind { kSimulate, kOdometry, kMap };
 struct BenchRun {
     RunKind kind = RunKind::kOdometry;
     std::string sequence;
-    std::string method;   ///< "odom_doppler", "map_imu+doppler", ... ("simulate" for simulations)
-    std::string dataset;  ///< the DATASET argument of the run
-    std::string ground_truth;  ///< TUM ground truth of its sequence
+    /// "odom_doppler", "map_imu+doppler", "map_doppler@max_iterations=5" (a grid variant), ...
+    /// ("simulate" for simulations)
+    std::string method;
+    std::string dataset;          ///< the DATASET argument of the run
+    std::string ground_truth;     ///< TUM ground truth of its sequence
+    bool has_translation = true;  ///< false for gyro-only odometry (rotation RPE only)
     BenchJob job;
 };
 
 /// Runs in dependency order (each sequence's simulation before its runs). Layout under out_dir:
-/// data/<sequence>/ (simulations), runs/<sequence>/<method>/, logs/. Throws std::runtime_error
+/// data/<sequence>/ (simulations), runs/<sequence>/<method>/, configs/ (the grid variants' config
+/// files, see WriteVariantConfigs), logs/. Throws std::runtime_error
 /// naming the sequence when the reference is exact and a sequence is not simulated.
 [[nodiscard]] std::vector<BenchRun> PlanBenchmark(const BenchConfig &config,
                                                   const std::string &out_dir);
+
+/// Writes the config file of every grid variant the plan's runs name (out_dir/configs/).
+void WriteVariantConfigs(const BenchConfig &config, const std::string &out_dir);
 
 }  // namespace dorado::apps

@@ -160,6 +160,12 @@ void WriteAxisTable(std::ostream &os, const std::vector<const RunEvaluation *> &
     }
 }
 
+std::string FormatSeconds(double seconds) {
+    std::ostringstream os;
+    os << seconds << " s";
+    return os.str();
+}
+
 }  // namespace
 
 std::vector<double> ReadCsvColumn(const std::string &path, const std::string &column) {
@@ -196,7 +202,9 @@ std::vector<RunEvaluation> EvaluateRuns(const std::vector<BenchRun> &runs,
                                         const std::vector<JobOutcome> &outcomes,
                                         const BenchConfig &config) {
     eval::AssociationConfig association;
+    association.method = config.association;
     association.max_gap_ns = static_cast<int64_t>(std::llround(config.association_max_gap_s * 1e9));
+    association.max_time_diff_ns = static_cast<int64_t>(std::llround(config.t_max_diff_s * 1e9));
 
     std::vector<RunEvaluation> evaluations;
     std::vector<eval::AssociatedPoses> associated;
@@ -210,7 +218,7 @@ std::vector<RunEvaluation> EvaluateRuns(const std::vector<BenchRun> &runs,
         e.kind = run.kind;
         e.run_dir = run.job.out_dir;
         e.ground_truth = run.ground_truth;
-        e.has_translation = run.method != "odom_imu";
+        e.has_translation = run.has_translation;
         associated.emplace_back();
         const bool finished = outcomes[r].status == JobStatus::kSucceeded ||
                               outcomes[r].status == JobStatus::kAlreadyDone;
@@ -346,8 +354,16 @@ void WriteReport(const std::vector<RunEvaluation> &evaluations, const BenchConfi
     io::WriteFileAtomically((out / "results.md").string(), [&](std::ostream &os) {
         os << "# dorado benchmark\n\n"
            << "RPE (mean over pairs) per frame (delta " << config.rpe_frame_delta << ") and per "
-           << config.rpe_second_delta_s << " s, against the ground truth interpolated at each "
-           << "estimated stamp (reference: "
+           << config.rpe_second_delta_s << " s, against "
+           << (config.association == eval::AssociationMethod::kNearest
+                   ? "the ground truth pose with the nearest stamp within " +
+                         FormatSeconds(config.t_max_diff_s) +
+                         " of each estimated stamp (association: nearest, as evo's "
+                         "associate_trajectories with --t_max_diff)"
+                   : "the ground truth interpolated at each estimated stamp (association: "
+                     "interpolate, across gaps up to " +
+                         FormatSeconds(config.association_max_gap_s) + ")")
+           << " (reference: "
            << (config.reference == BenchReference::kExact
                    ? "the simulator's exact trajectory, true_trajectory.tum"
                    : "the ground truth as recorded, ground_truth.tum for simulated sequences")

@@ -25,6 +25,9 @@ map_config: mapper.yaml
 TEST(BenchPlan, MatrixHasOneRunPerSequenceAndMethodAfterItsSimulation) {
     const BenchConfig config = ParseBenchConfig(kConfig, "/cfg", "test.yaml");
     EXPECT_EQ(config.jobs, 2u);
+    EXPECT_EQ(config.map_priors, (std::vector<mapping::PriorKind>{mapping::PriorKind::kNone,
+                                                                  mapping::PriorKind::kDoppler}));
+    EXPECT_EQ(config.association, eval::AssociationMethod::kInterpolate);
     const auto runs = PlanBenchmark(config, "/out");
     // s1: simulate + 3 odometry + 2 map; real: 3 + 2.
     ASSERT_EQ(runs.size(), 11u);
@@ -66,16 +69,16 @@ TEST(BenchPlan, ErrorsNameTheKey) {
         }
         return std::string("no error");
     };
-    EXPECT_NE(error_of("jobs: 1").find("bad.yaml: sequences"), std::string::npos);
+    EXPECT_NE(error_of("jobs: 1").find("bad.yaml: key 'sequences'"), std::string::npos);
     EXPECT_NE(error_of("sequences: [{name: a, simulate: {}}]\nmap_priors: [lidar]")
-                  .find("map_priors: unknown method 'lidar'"),
+                  .find("key 'map_priors': unknown method 'lidar'"),
               std::string::npos);
     EXPECT_NE(error_of("sequences: [{name: a}]").find("sequences[0].dataset"), std::string::npos);
     EXPECT_NE(error_of("sequences: [{name: a, simulate: {duration_s: -3}}]")
                   .find("sequences[0].simulate.duration_s"),
               std::string::npos);
     EXPECT_NE(error_of("sequences: [{name: a, simulate: {}}, {name: a, simulate: {}}]")
-                  .find("sequences[1].name: repeats"),
+                  .find("sequences[1].name': repeats"),
               std::string::npos);
     EXPECT_NE(error_of("sequences: [{name: a, simulate: {}}]\njobs: many").find("jobs"),
               std::string::npos);
@@ -89,8 +92,58 @@ TEST(BenchPlan, ErrorsNameTheKey) {
                   .find("sequences[0].groundtruth"),
               std::string::npos);
     EXPECT_NE(error_of("sequences: [{name: a, simulate: {}}]\nreference: lidar")
-                  .find("reference: must be ground_truth or exact, got 'lidar'"),
+                  .find("key 'reference': must be ground_truth or exact, got 'lidar'"),
               std::string::npos);
+}
+
+TEST(BenchPlan, GridPointsAreNamedVariantsWithTheirOwnConfig) {
+    const BenchConfig config = ParseBenchConfig(R"(
+sequences: [{name: s1, simulate: {}}]
+odometry: [imu]
+map_priors: [doppler]
+association: nearest
+t_max_diff_s: 0.02
+grid:
+  map: {mapper.max_iterations: [5, 10], mapper.scan_voxel_m: [0.5, 1.0, 2]}
+)",
+                                                "/cfg", "test.yaml");
+    EXPECT_EQ(config.association, eval::AssociationMethod::kNearest);
+    EXPECT_DOUBLE_EQ(config.t_max_diff_s, 0.02);
+    const auto runs = PlanBenchmark(config, "/out");
+    ASSERT_EQ(runs.size(), 1u + 1u + 6u);  // simulate, odom_imu, 2 x 3 map variants
+    EXPECT_EQ(runs[1].method, "odom_imu");
+    EXPECT_FALSE(runs[1].has_translation);
+    EXPECT_EQ(runs[2].method, "map_doppler@max_iterations=5,scan_voxel_m=0.5");
+    EXPECT_EQ(runs[7].method, "map_doppler@max_iterations=10,scan_voxel_m=2");
+    EXPECT_EQ(runs[7].job.out_dir, "/out/runs/s1/map_doppler@max_iterations=10,scan_voxel_m=2");
+    EXPECT_EQ(runs[7].job.args.back(), "/out/configs/map@max_iterations=10,scan_voxel_m=2.yaml");
+    const auto error_of = [](const std::string &yaml) {
+        try {
+            (void)ParseBenchConfig("sequences: [{name: a, simulate: {}}]\n" + yaml, "/", "g.yaml");
+        } catch (const std::runtime_error &e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_NE(
+        error_of("grid: {map: {mapper.max_iterations: []}}").find("grid.map.mapper.max_iterations"),
+        std::string::npos);
+    EXPECT_NE(error_of("grid: {mapp: {}}").find("did you mean 'map'"), std::string::npos);
+    EXPECT_NE(error_of("grid: {map: {a.b: [x/y]}}").find("names a directory"), std::string::npos);
+    EXPECT_NE(error_of("association: closest").find("must be interpolate or nearest"),
+              std::string::npos);
+}
+
+TEST(BenchGrid, CartesianProductFirstAxisSlowest) {
+    const auto variants = GridVariants({{"a.x", {"1", "2"}}, {"b", {"p", "q", "r"}}});
+    ASSERT_EQ(variants.size(), 6u);
+    EXPECT_EQ(variants[0].name, "x=1,b=p");
+    EXPECT_EQ(variants[2].name, "x=1,b=r");
+    EXPECT_EQ(variants[3].name, "x=2,b=p");
+    ASSERT_EQ(variants[5].settings.size(), 2u);
+    EXPECT_EQ(variants[5].settings[0], (std::pair<std::string, std::string>{"a.x", "2"}));
+    EXPECT_EQ(GridVariants({}).size(), 1u);
+    EXPECT_TRUE(GridVariants({}).front().name.empty());
 }
 
 TEST(BenchPlan, ExactReferenceScoresSimulatedSequencesAgainstTheTrueTrajectory) {

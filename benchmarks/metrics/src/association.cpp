@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <stdexcept>
 
 namespace dorado::eval {
 
@@ -36,32 +37,36 @@ AssociatedPoses AssociateInterpolated(const Trajectory &reference, const Traject
     return out;
 }
 
-// evo's sync.associate_trajectories: the shorter trajectory drives the matching.
+// evo's sync.associate_trajectories(ref, est, max_diff, offset_2): the shorter trajectory
+// drives the matching; est stamps are shifted by the offset; pairs are in the shorter's order.
 AssociatedPoses AssociateNearest(const Trajectory &reference, const Trajectory &estimate,
-                                 int64_t max_time_diff_ns) {
+                                 const AssociationConfig &config) {
     AssociatedPoses out;
     if (reference.empty() || estimate.empty()) {
         for (const auto &p : estimate.poses()) out.unmatched_est_stamps_ns.push_back(p.stamp_ns);
         return out;
     }
     const bool est_longer = estimate.size() > reference.size();
-    const Trajectory &shorter = est_longer ? reference : estimate;
-    const Trajectory &longer = est_longer ? estimate : reference;
     std::vector<bool> est_matched(estimate.size(), false);
-    std::size_t last_l = SIZE_MAX;
-    for (std::size_t s = 0; s < shorter.size(); ++s) {
-        const std::size_t l = NearestIndex(longer.poses(), shorter[s].stamp_ns);
-        if (std::llabs(longer[l].stamp_ns - shorter[s].stamp_ns) > max_time_diff_ns) continue;
-        // Two reference poses matching the same estimated one: keep the first, so that every
-        // estimated stamp appears once.
-        if (est_longer && l == last_l) continue;
-        last_l = l;
-        const std::size_t i_est = est_longer ? l : s;
-        const std::size_t i_ref = est_longer ? s : l;
+    const auto add = [&](std::size_t i_est, std::size_t i_ref) {
         est_matched[i_est] = true;
         out.stamps_ns.push_back(estimate[i_est].stamp_ns);
         out.T_world_ref.push_back(reference[i_ref].T_world_body);
         out.T_world_est.push_back(estimate[i_est].T_world_body);
+    };
+    if (est_longer) {
+        // Nearest shifted estimate stamp for each reference stamp: t_est + offset ~ t_ref.
+        for (std::size_t r = 0; r < reference.size(); ++r) {
+            const int64_t t = reference[r].stamp_ns - config.t_offset_ns;
+            const std::size_t e = NearestIndex(estimate.poses(), t);
+            if (std::llabs(estimate[e].stamp_ns - t) <= config.max_time_diff_ns) add(e, r);
+        }
+    } else {
+        for (std::size_t e = 0; e < estimate.size(); ++e) {
+            const int64_t t = estimate[e].stamp_ns + config.t_offset_ns;
+            const std::size_t r = NearestIndex(reference.poses(), t);
+            if (std::llabs(reference[r].stamp_ns - t) <= config.max_time_diff_ns) add(e, r);
+        }
     }
     for (std::size_t i = 0; i < estimate.size(); ++i) {
         if (!est_matched[i]) out.unmatched_est_stamps_ns.push_back(estimate[i].stamp_ns);
@@ -71,10 +76,20 @@ AssociatedPoses AssociateNearest(const Trajectory &reference, const Trajectory &
 
 }  // namespace
 
+const char *ToString(AssociationMethod method) {
+    return method == AssociationMethod::kNearest ? "nearest" : "interpolate";
+}
+
+AssociationMethod ParseAssociationMethod(const std::string &name) {
+    if (name == "interpolate") return AssociationMethod::kInterpolate;
+    if (name == "nearest") return AssociationMethod::kNearest;
+    throw std::invalid_argument("must be interpolate or nearest, got '" + name + "'");
+}
+
 AssociatedPoses Associate(const Trajectory &reference, const Trajectory &estimate,
                           const AssociationConfig &config) {
     if (config.method == AssociationMethod::kNearest) {
-        return AssociateNearest(reference, estimate, config.max_time_diff_ns);
+        return AssociateNearest(reference, estimate, config);
     }
     return AssociateInterpolated(reference, estimate, config.max_gap_ns);
 }
