@@ -7,9 +7,9 @@
 // machine do not count.
 // Run: build/benchmarks/odometry/bench_crowd_ego_velocity [scans=200] [reps=3]
 #include <algorithm>
-#include <ctime>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <functional>
 #include <vector>
 
@@ -39,9 +39,9 @@ double Quantile(std::vector<double> v, double q) {
 }
 
 // Runs `estimate` on every scan; it returns false on failure and writes the velocity.
-Stats Measure(const std::vector<CrowdScene> &scenes, const std::vector<double> &crb_trace,
-              int reps, const std::function<bool(const dorado::RadarScan &, Eigen::Vector3d &,
-                                                 int &)> &estimate) {
+Stats Measure(
+    const std::vector<CrowdScene> &scenes, const std::vector<double> &crb_trace, int reps,
+    const std::function<bool(const dorado::RadarScan &, Eigen::Vector3d &, int &)> &estimate) {
     Stats st;
     std::vector<double> times;
     double se = 0.0, crb = 0.0;
@@ -78,7 +78,8 @@ int main(int argc, char **argv) {
     const int reps = argc > 2 ? std::atoi(argv[2]) : 3;
     std::printf(
         "crowded scans: 3-6 coherent movers on 25-40 %% of the points, 4-8 %% clutter, 3-6 %% "
-        "multipath ghosts, ~55 %% of the static points on the ground; %d scans per size, fastest of "
+        "multipath ghosts, ~55 %% of the static points on the ground; %d scans per size, fastest "
+        "of "
         "%d runs per scan, thread CPU time\n",
         scans, reps);
     std::printf("%6s | %-32s | %-24s | %7s | %-22s\n", "points",
@@ -105,7 +106,8 @@ int main(int argc, char **argv) {
             crb.push_back(
                 dorado::odometry::VelocityCramerRaoBound(dirs.leftCols(n), sigma.head(n)).trace());
         }
-        dorado::odometry::EgoVelocityEstimator dorado_estimator{dorado::odometry::EgoVelocityConfig{}};
+        dorado::odometry::EgoVelocityEstimator dorado_estimator{
+            dorado::odometry::EgoVelocityConfig{}};
         const Stats d = Measure(scenes, crb, reps,
                                 [&](const dorado::RadarScan &scan, Eigen::Vector3d &v, int &it) {
                                     const auto r = dorado_estimator.Estimate(scan);

@@ -1,10 +1,10 @@
 #pragma once
 // Synthetic radar scans built like recorded crowded street scans, with known truth, for the
-// ego-velocity benchmarks: a ground-heavy static world (road returns at low elevation, weak), static
-// structure around it, several coherent movers (cars, a bus, cyclists) that together hold 25-40 %
-// of the points, clutter with random Doppler, and multipath ghosts (double bounces off the ego
-// vehicle, movers mirrored in a side wall). Doppler noise grows for weak returns as in tests/odometry:
-// sigma_i^2 = sigma^2 (1 + 10^((snr_reference - power_i) / 10)).
+// ego-velocity benchmarks: a ground-heavy static world (road returns at low elevation, weak),
+// static structure around it, several coherent movers (cars, a bus, cyclists) that together hold
+// 25-40 % of the points, clutter with random Doppler, and multipath ghosts (double bounces off the
+// ego vehicle, movers mirrored in a side wall). Doppler noise grows for weak returns as in
+// tests/odometry: sigma_i^2 = sigma^2 (1 + 10^((snr_reference - power_i) / 10)).
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -165,8 +165,8 @@ inline CrowdScene MakeCrowdScan(const CrowdOptions &o) {
                 break;
             }
         }
-        const double sigma =
-            o.doppler_sigma_mps * std::sqrt(1.0 + std::pow(10.0, (o.snr_reference_db - power) / 10.0));
+        const double sigma = o.doppler_sigma_mps *
+                             std::sqrt(1.0 + std::pow(10.0, (o.snr_reference_db - power) / 10.0));
         if (!doppler_set) doppler = d.dot(u - out.v_radar);
         s.scan.xyz_radar.col(i) = range * d;
         s.scan.power_db[i] = power;

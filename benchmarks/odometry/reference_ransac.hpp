@@ -52,7 +52,8 @@ struct ReferenceRansac {
             while (s[2] == s[0] || s[2] == s[1]) s[2] = pick(rng);
             Eigen::Matrix3d M;
             for (int k = 0; k < 3; ++k) M.row(k) = A.row(s[k]);
-            const Eigen::Vector3d v = M.partialPivLu().solve(Eigen::Vector3d(b[s[0]], b[s[1]], b[s[2]]));
+            const Eigen::Vector3d v =
+                M.partialPivLu().solve(Eigen::Vector3d(b[s[0]], b[s[1]], b[s[2]]));
             if (!v.allFinite()) continue;
             Eigen::Index outliers = 0;
             for (Eigen::Index i = 0; i < n; ++i)
