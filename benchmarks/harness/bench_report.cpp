@@ -7,6 +7,7 @@
 #include <fstream>
 #include <functional>
 #include <iomanip>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -123,11 +124,22 @@ eval::Statistics PooledStatistics(const std::vector<const RunEvaluation *> &grou
     return eval::ComputeStatistics(Finite(values));
 }
 
+// p95 of the pooled time per scan of a group of runs (issue 16).
+double PooledTimeP95(const std::vector<const RunEvaluation *> &group) {
+    std::vector<double> t;
+    for (const RunEvaluation *e : group)
+        t.insert(t.end(), e->time_per_scan_ms.begin(), e->time_per_scan_ms.end());
+    t = Finite(t);
+    if (t.empty()) return std::numeric_limits<double>::quiet_NaN();
+    std::sort(t.begin(), t.end());
+    return t[static_cast<std::size_t>(0.95 * static_cast<double>(t.size() - 1))];
+}
+
 void WriteMarkdownTable(std::ostream &os, const std::vector<const RunEvaluation *> &rows,
                         bool pooled) {
     os << "| method | RPE/frame trans [m] | RPE/frame rot [deg] | RPE/s trans [m] | RPE/s rot "
           "[deg] | "
-          "ATE rmse [m] | time/scan [ms] |"
+          "ATE rmse [m] | time/scan mean, median, p95 [ms] |"
        << (pooled ? "" : " poses scored |") << "\n";
     os << "|---|---:|---:|---:|---:|---:|---:|" << (pooled ? "" : "---:|") << "\n";
     // Rows of the same method are pooled (over sequences when `pooled`).
@@ -136,7 +148,8 @@ void WriteMarkdownTable(std::ostream &os, const std::vector<const RunEvaluation 
         const auto &m = Metrics();
         os << "| " << method << " | " << Num(stat(m[0]).mean, 3) << " | " << Num(stat(m[1]).mean, 3)
            << " | " << Num(stat(m[2]).mean, 3) << " | " << Num(stat(m[3]).mean, 3) << " | "
-           << Num(stat(m[4]).rmse, 3) << " | " << Num(stat(m[5]).mean, 2) << " |";
+           << Num(stat(m[4]).rmse, 3) << " | " << Num(stat(m[5]).mean, 2) << ", "
+           << Num(stat(m[5]).median, 2) << ", " << Num(PooledTimeP95(group), 2) << " |";
         if (!pooled) {
             const RunEvaluation &e = *group.front();
             os << ' '

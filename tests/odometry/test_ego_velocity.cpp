@@ -316,6 +316,29 @@ TEST(EgoVelocity, ZeroPowerMeansUniformWeights) {
     }
 }
 
+// The bail-out drops bad hypotheses after a sample of the subset; it must not change the answer:
+// on crowded scans the estimate with it stays within a fraction of the Cramer-Rao sigma of the
+// estimate that scores every hypothesis on the whole subset.
+TEST(EgoVelocity, BailOutKeepsTheAnswerOfFullScoring) {
+    EgoVelocityConfig off;
+    off.ransac_bailout_points = 0;
+    EgoVelocityEstimator with{EgoVelocityConfig{}}, without{off};
+    double worst_sigmas = 0.0;
+    for (int t = 0; t < 10; ++t) {
+        SceneOptions o;
+        o.points = 3000;
+        o.dynamic_fraction = 0.5;
+        o.coherent_crowd = t % 2 == 0;
+        o.seed = 900 + t;
+        const auto s = MakeScan(o);
+        const auto a = with.Estimate(s.scan), b = without.Estimate(s.scan);
+        ASSERT_TRUE(a.valid && b.valid) << a.reason << b.reason;
+        const Eigen::Vector3d e = a.v_radar_mps - b.v_radar_mps;
+        worst_sigmas = std::max(worst_sigmas, std::sqrt(e.dot(b.cov_v_radar.ldlt().solve(e))));
+    }
+    EXPECT_LT(worst_sigmas, 0.5);
+}
+
 TEST(EgoVelocity, ConfigErrorsNameTheField) {
     EgoVelocityConfig c;
     c.doppler_sigma_mps = -1.0;
@@ -327,6 +350,12 @@ TEST(EgoVelocity, ConfigErrorsNameTheField) {
     }
     c = EgoVelocityConfig{};
     c.max_range_m = 0.1;
+    EXPECT_THROW(EgoVelocityEstimator{c}, std::invalid_argument);
+    c = EgoVelocityConfig{};
+    c.ransac_bailout_fraction = 1.0;
+    EXPECT_THROW(EgoVelocityEstimator{c}, std::invalid_argument);
+    c = EgoVelocityConfig{};
+    c.ransac_bailout_points = -1;
     EXPECT_THROW(EgoVelocityEstimator{c}, std::invalid_argument);
 }
 

@@ -38,6 +38,8 @@ void ReadEgoVelocity(io::YamlSection m, odometry::EgoVelocityConfig &c) {
     m.Read("ransac_min_iterations", c.ransac_min_iterations);
     m.Read("ransac_max_iterations", c.ransac_max_iterations);
     m.Read("ransac_score_points", c.ransac_score_points);
+    m.Read("ransac_bailout_points", c.ransac_bailout_points);
+    m.Read("ransac_bailout_fraction", c.ransac_bailout_fraction);
     m.Read("score_cells_azimuth", c.score_cells_azimuth);
     m.Read("score_cells_elevation", c.score_cells_elevation);
     m.Read("refit_iterations", c.refit_iterations);

@@ -83,10 +83,17 @@ struct EgoVelocityConfig {
     double max_gate_scale = 4.0;
     double ransac_success_probability = 0.999;
     int ransac_min_iterations = 10;
+    /// Hard cap on hypotheses; when it is hit, the best hypothesis so far is refit and used.
     int ransac_max_iterations = 300;
     /// Hypotheses are scored on a random subset of this many points (0 = all points); the final
     /// inlier set and refit always use every point.
     int ransac_score_points = 1024;
+    /// Bail-out when scoring a hypothesis: after its first this many points of the (shuffled)
+    /// scoring subset, a hypothesis whose inliers there fall below ransac_bailout_fraction times
+    /// what the best hypothesis so far predicts is dropped unscored. Bounds the cost of the many
+    /// bad hypotheses that crowded scans need; 0 = off.
+    int ransac_bailout_points = 128;
+    double ransac_bailout_fraction = 0.5;
     /// Spread-aware scoring: inliers are counted per direction cell (azimuth x elevation) and each
     /// cell contributes sqrt(its count), so that a static world that surrounds the sensor beats a
     /// compact crowd moving together (a passing bus) even when the crowd has more points.
