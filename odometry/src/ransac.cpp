@@ -74,6 +74,8 @@ double Score(const DopplerSystem &s, const Eigen::Vector3d &v, Workspace &ws, in
     const Eigen::Index n = s.size();
     ws.residual.head(n).noalias() = s.A * v;
     ws.residual.head(n) -= s.b;
+    if (s.alias_span > 0.0)  // aliased Doppler: the wrap closest to the hypothesis
+        ws.residual.head(n) -= s.alias_span * (ws.residual.head(n) / s.alias_span).array().round().matrix();
     ws.cell_score.setZero();
     ws.cell_inliers.setZero();
     inliers = 0;
@@ -130,7 +132,7 @@ int RequiredIterations(double inlier_ratio, double success_probability) {
 }  // namespace
 
 bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, int &iterations) {
-    const DopplerSystem &all = ws.system;
+    DopplerSystem &all = ws.system;  // not const: ClassifyInliers unwraps aliased Doppler
     const Eigen::Index n = all.size();
     const bool use_subset = config.ransac_score_points > 0 && n > config.ransac_score_points;
     if (use_subset) DrawSubset(all, config.ransac_score_points, ws, ws.subset);
@@ -155,7 +157,11 @@ bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, 
            iterations < config.ransac_max_iterations;
          ++iterations) {
         const Eigen::Index i = pick(ws.rng), j = pick(ws.rng), k = pick(ws.rng);
-        if (i == j || j == k || i == k || !SolveMinimal(s, i, j, k, candidate)) continue;
+        if (i == j || j == k || i == k) continue;
+        if (!(s.alias_span > 0.0
+                  ? SolveMinimalAliased(s, i, j, k, config.max_speed_mps, candidate)
+                  : SolveMinimal(s, i, j, k, candidate)))
+            continue;
         int count = 0;
         double score = Score(s, candidate, ws, count);
         if (score <= best_score) continue;

@@ -1,5 +1,6 @@
 // Weighted least squares of eq. (2) on a masked subset of the Doppler system.
 #include <Eigen/Cholesky>
+#include <cmath>
 
 #include "robust_fit.hpp"
 
@@ -50,9 +51,18 @@ bool SolveWeighted(const DopplerSystem &system, const Eigen::VectorXd &mask, Wor
     return v.allFinite();
 }
 
-int ClassifyInliers(const DopplerSystem &system, const Eigen::Vector3d &v, Workspace &ws,
+void Unwrap(DopplerSystem &system, const Eigen::Vector3d &v) {
+    const double span = system.alias_span;
+    if (!(span > 0.0)) return;
+    const Eigen::Index n = system.size();
+    for (Eigen::Index i = 0; i < n; ++i)
+        system.b[i] += span * std::round((system.A.row(i).dot(v) - system.b[i]) / span);
+}
+
+int ClassifyInliers(DopplerSystem &system, const Eigen::Vector3d &v, Workspace &ws,
                     Eigen::VectorXd &mask) {
     const Eigen::Index n = system.size();
+    Unwrap(system, v);
     ws.residual.resize(n);
     mask.resize(n);
     ws.residual.noalias() = system.A * v;

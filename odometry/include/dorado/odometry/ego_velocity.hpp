@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "dorado/core/radar_scan.hpp"
+#include "dorado/core/radar_sensor.hpp"
 
 namespace dorado::odometry {
 
@@ -104,6 +105,17 @@ struct EgoVelocityConfig {
 
     CovarianceModel covariance = CovarianceModel::kSandwich;
 
+    // --- the sensor (the dataset's radar section) ---
+    /// Direction noise and Doppler ambiguity. With direction noise, the final fit after RANSAC
+    /// weights and gates each point by its total variance sigma_i^2 + v^T C_i v (C_i: the
+    /// covariance of its measured direction) and removes the errors-in-variables bias; with
+    /// doppler_unambiguous_mps > 0, each point's Doppler is unwrapped (by a multiple of 2 v_unamb)
+    /// to the one closest to the hypothesis while RANSAC scores and refits.
+    RadarSensorModel sensor;
+    /// false: the plain weighted least squares of eq. (2) even with direction noise (biased at
+    /// speed: noise in elevation couples v_x into v_z).
+    bool compensate_direction_noise = true;
+
     // --- validity ---
     int min_points = 10;  ///< points left after the pre-filters
     int min_inliers = 8;  ///< static inliers
@@ -130,6 +142,11 @@ struct EgoVelocityResult {
     bool stationary = false;
     double condition_number = 0.0;
     int iterations = 0;  ///< RANSAC hypotheses or IRLS rounds
+    /// Static inliers whose Doppler was unwrapped by a multiple of 2 doppler_unambiguous_mps
+    /// (aliased returns used, not rejected).
+    int unwrapped = 0;
+    /// The final fit removed the direction-noise (errors-in-variables) bias.
+    bool direction_noise_compensated = false;
 };
 
 /// Estimates v_radar from a scan: for a static point with unit direction d_i,
