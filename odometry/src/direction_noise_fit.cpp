@@ -7,9 +7,9 @@
 // angles, E[d~] = S d with S = diag(e^(-(se^2+sa^2)/2), e^(-(se^2+sa^2)/2), e^(-se^2/2)), and to
 // leading order C = se^2 e_el e_el^T + sa^2 cos^2(el) e_az e_az^T. The estimating equation
 //   sum_i w_i (d~_i b_i - (d~_i d~_i^T - C_i) S_i^-1 v) = 0
-// is therefore unbiased (up to O(sigma^4)): bias-compensated least squares. Its weights and
-// gates use each point's total variance sigma_i^2 + v^T C_i v (the direction noise projected on
-// the velocity grows with speed), and its covariance is the sandwich of the estimating function,
+// is therefore unbiased (up to O(sigma^4)): bias-compensated least squares. Its inlier gates use
+// each point's total variance sigma_i^2 + v^T C_i v (the direction noise projected on the
+// velocity grows with speed), and its covariance is the sandwich of the estimating function,
 // which contains the direction noise whatever the weights.
 #include <Eigen/LU>
 #include <algorithm>
@@ -55,22 +55,20 @@ bool FitWithDirectionNoise(const EgoVelocityConfig &config, Workspace &ws, Eigen
     // the ratio of its Doppler-only gate to a strong return's, set by AssignWeightsAndGates.
     ws.sort_buffer = s.gate2 / (gate0 * gate0);
     const Eigen::VectorXd &k2 = ws.sort_buffer;
-    const Eigen::VectorXd w_doppler = s.w;
     const double sa = config.sensor.azimuth_sigma_deg * kDegToRad;
     const double se = config.sensor.elevation_sigma_deg * kDegToRad;
     ws.weighted.resize(n);
     int previous = -1;
     Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
     for (int round = 0; round < std::max(config.refit_iterations, 1) + 1; ++round) {
-        // Weights and gates from the total variance at the current velocity.
+        // Gates from the total variance at the current velocity. The weights stay eq. (2)'s
+        // (Doppler only): weights from the total variance would depend on the measured direction,
+        // hence on its noise, and bias the fit again (measured: +0.03 m/s v_z at 12 m/s, 2 deg).
         for (Eigen::Index i = 0; i < n; ++i) {
             const double k = std::sqrt(k2[i]);
             const DirectionNoise dn = NoiseOf(s.A.row(i).transpose(), k * sa, k * se);
-            const double doppler_var = sigma_d * sigma_d * k2[i];
-            const double total_var = doppler_var + v.dot(dn.C * v);
+            const double total_var = sigma_d * sigma_d * k2[i] + v.dot(dn.C * v);
             s.gate2[i] = config.gate_sigmas * config.gate_sigmas * total_var;
-            s.w[i] = w_doppler[i];
-            (void)doppler_var;
         }
         const int count = ClassifyInliers(s, v, ws, ws.mask);
         M.setZero();

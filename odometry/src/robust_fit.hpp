@@ -67,7 +67,7 @@ bool SolveMinimalAliased(const DopplerSystem &s, Eigen::Index i, Eigen::Index j,
                          double max_speed_mps, Eigen::Vector3d &v);
 
 /// The final fit with direction noise (config.sensor): per-point total variance
-/// sigma_i^2 + v^T C_i v for weights and gates, and the bias-compensated (errors-in-variables)
+/// sigma_i^2 + v^T C_i v for the gates, and the bias-compensated (errors-in-variables)
 /// estimating equation sum w_i (d_i b_i - (d_i d_i^T - C_i) S_i^-1 v) = 0, refit until the inlier
 /// set settles, starting from v (RANSAC's). Sets ws.mask, ws.residual, ws.weighted; `AtWA` gets
 /// sum w_i d_i d_i^T on the inliers, `covariance` the sandwich covariance. False when singular.

@@ -107,8 +107,9 @@ struct EgoVelocityConfig {
 
     // --- the sensor (the dataset's radar section) ---
     /// Direction noise and Doppler ambiguity. With direction noise, the final fit after RANSAC
-    /// weights and gates each point by its total variance sigma_i^2 + v^T C_i v (C_i: the
-    /// covariance of its measured direction) and removes the errors-in-variables bias; with
+    /// gates each point by its total variance sigma_i^2 + v^T C_i v (C_i: the covariance of its
+    /// measured direction, growing for weak returns like the Doppler noise) and removes the
+    /// errors-in-variables bias (bias-compensated least squares); with
     /// doppler_unambiguous_mps > 0, each point's Doppler is unwrapped (by a multiple of 2 v_unamb)
     /// to the one closest to the hypothesis while RANSAC scores and refits.
     RadarSensorModel sensor;
