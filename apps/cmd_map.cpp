@@ -42,7 +42,8 @@ void RunMap(const MapOptions &opt) {
     const dorado::config::MapCommandConfig map_config =
         opt.config.empty() ? dorado::config::MapCommandConfig{}
                            : dorado::config::LoadMapConfig(opt.config);
-    const frontend::FrontEndConfig config = FrontEndConfigOf(opt, map_config);
+    frontend::FrontEndConfig config = FrontEndConfigOf(opt, map_config);
+    config.odometry.ego_velocity.sensor = dataset.radar;  // the radar: noise, ambiguity
     const bool needs_imu = mapping::NeedsImu(config.prior);
     if (needs_imu && !HasImuTopic(dataset))
         throw io::ConfigError(DatasetFile(dataset, opt.dataset) +

@@ -114,6 +114,7 @@ void RunOdometry(const OdometryOptions &opt) {
                               ": key 'rosbag.imu_topic': rotation from the IMU needs an "
                               "IMU topic in the dataset description");
     }
+    config.odometry.ego_velocity.sensor = dataset.radar;  // the radar: noise, ambiguity
     frontend::RadarFrontEnd front_end(config, dataset.extrinsics, dataset.vehicle);
     io::MakeDirectories(opt.out);
     if (opt.masks) io::MakeDirectories(opt.out + "/masks");

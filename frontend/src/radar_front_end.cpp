@@ -6,6 +6,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "dorado/core/gyro_bias.hpp"
 #include "dorado/core/time.hpp"
 
 namespace dorado::frontend {
@@ -68,6 +69,7 @@ struct RadarFrontEnd::State {
     odometry::DopplerOdometry odometry;
     std::optional<mapping::RadarMapper> mapper;
     ImuWindow imu;
+    GyroBiasEstimator gyro_bias;  // from the stationary scans, subtracted from every gyro rate
     Trajectory trajectory;
     Eigen::Isometry3d T_world_base_initial = Eigen::Isometry3d::Identity();
     // The last two accepted poses since the last reset (constvel, imu priors).
@@ -107,7 +109,7 @@ mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometrySt
     };
     std::optional<mapping::MotionPrior> built;
     std::string why_not;
-    const std::vector<ImuSample> &imu_samples = imu.samples();
+    const std::vector<ImuSample> imu_samples = gyro_bias.Corrected(imu.samples());
     switch (kind) {
         case PriorKind::kNone:
             built = mapping::PriorFromPreviousPose(T_prev, noise);
@@ -189,11 +191,15 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
     // 1. Doppler: ego-velocity, mask, the vehicle twist (eq. 2, 5, 7) and dead reckoning.
     const Eigen::Vector3d gyro_base =
         s.has_last ? Eigen::Vector3d(s.extrinsics.T_base_imu.linear() *
-                                     s.imu.MeanGyro(s.last_stamp_ns, scan_radar.stamp_ns))
+                                     (s.imu.MeanGyro(s.last_stamp_ns, scan_radar.stamp_ns) -
+                                      s.gyro_bias.bias_imu_radps()))
                    : Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
     result.gyro_base_radps = gyro_base;
     result.odometry = s.odometry.Register(scan_radar, gyro_base);
     const odometry::OdometryStep &step = result.odometry;
+    if (s.has_last)
+        s.gyro_bias.AddInterval(step.ego.valid && step.ego.stationary,
+                                s.imu.Between(s.last_stamp_ns, scan_radar.stamp_ns));
     result.T_world_base_odometry = step.T_world_base;
     if (!step.integrated) {  // the one timestamp-order check, the odometry's (across resets too)
         result.skip_reason = step.skip_reason;

@@ -103,6 +103,23 @@ KinematicModelNoise ReadModelNoise(YamlSection section) {
     return noise;
 }
 
+// radar: the sensor's 1-sigma noise and Doppler ambiguity, each finite and >= 0.
+RadarSensorModel ReadRadarSensor(YamlSection section) {
+    RadarSensorModel radar;
+    const auto read = [&section](const char *key, double &value, double upper) {
+        value = section.Get<double>(key, value);
+        if (!(std::isfinite(value) && value >= 0.0 && value < upper))
+            section.Fail(key, "must be a number in [0, " + std::to_string(upper) + "), got " +
+                                  std::to_string(value));
+    };
+    read("range_sigma_m", radar.range_sigma_m, 100.0);
+    read("azimuth_sigma_deg", radar.azimuth_sigma_deg, 20.0);
+    read("elevation_sigma_deg", radar.elevation_sigma_deg, 20.0);
+    read("doppler_unambiguous_mps", radar.doppler_unambiguous_mps, 1000.0);
+    section.RejectUnknownKeys();
+    return radar;
+}
+
 }  // namespace
 
 DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
@@ -175,6 +192,7 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
         vehicle.Fail("half_wheelbase_m", "must be a number >= 0");
     config.vehicle.model_noise = ReadModelNoise(vehicle.Child("model_noise"));
     vehicle.RejectUnknownKeys();
+    config.radar = ReadRadarSensor(top.Child("radar"));
 
     top.RejectUnknownKeys();
     return config;
@@ -294,6 +312,13 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
     out << YAML::Key << "sigma_roll_rate_radps" << YAML::Value << noise.sigma_roll_rate_radps;
     EmitVector3(out, "angular_rate_prior_sigma_radps", noise.angular_rate_prior_sigma_radps);
     out << YAML::EndMap;
+    out << YAML::EndMap;
+    out << YAML::Key << "radar" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "range_sigma_m" << YAML::Value << config.radar.range_sigma_m;
+    out << YAML::Key << "azimuth_sigma_deg" << YAML::Value << config.radar.azimuth_sigma_deg;
+    out << YAML::Key << "elevation_sigma_deg" << YAML::Value << config.radar.elevation_sigma_deg;
+    out << YAML::Key << "doppler_unambiguous_mps" << YAML::Value
+        << config.radar.doppler_unambiguous_mps;
     out << YAML::EndMap;
     out << YAML::EndMap;
     return std::string(out.c_str()) + "\n";

@@ -52,10 +52,10 @@ OdometryStep DopplerOdometry::Register(const RadarScan &scan_radar,
         step.T_world_base = T_world_base_;
         return step;
     }
-    if (config_.method != OdometryMethod::kImu) {
-        step.ego = estimator_.Estimate(scan_radar);
-        if (step.ego.valid) step.motion = model_.Motion(step.ego.v_radar_mps, step.ego.cov_v_radar);
-    }
+    // Also for kImu: its `stationary` flag lets the front end estimate the gyro bias at rest.
+    step.ego = estimator_.Estimate(scan_radar);
+    if (step.ego.valid && config_.method != OdometryMethod::kImu)
+        step.motion = model_.Motion(step.ego.v_radar_mps, step.ego.cov_v_radar);
     ChooseTwist(gyro_base_radps, step);
 
     step.dt_s =

@@ -99,6 +99,8 @@ void BuildSystem(const EgoVelocityConfig &config, const RadarScan &scan, interna
         labels[i] = PointLabel::kDynamic;  // until proven static
         ++n;
     }
+    s.alias_span = 2.0 * config.sensor.doppler_unambiguous_mps;
+    ws.subset.alias_span = s.alias_span;
     // Shrinking keeps the first n rows of every column (conservativeResize).
     s.A.conservativeResize(n, 3);
     s.b.conservativeResize(n);
@@ -183,6 +185,18 @@ void EgoVelocityConfig::Validate() const {
     Require(max_speed_mps > 0.0, "max_speed_mps", "must be > 0");
     Require(stationary_speed_mps >= 0.0 && stationary_speed_mps < max_speed_mps,
             "stationary_speed_mps", "must be in [0, max_speed_mps)");
+    const auto finite_non_negative = [](double x) { return std::isfinite(x) && x >= 0.0; };
+    Require(finite_non_negative(sensor.range_sigma_m), "radar.range_sigma_m", "must be >= 0");
+    Require(finite_non_negative(sensor.azimuth_sigma_deg) && sensor.azimuth_sigma_deg < 20.0,
+            "radar.azimuth_sigma_deg", "must be in [0, 20)");
+    Require(finite_non_negative(sensor.elevation_sigma_deg) && sensor.elevation_sigma_deg < 20.0,
+            "radar.elevation_sigma_deg", "must be in [0, 20)");
+    Require(finite_non_negative(sensor.doppler_unambiguous_mps), "radar.doppler_unambiguous_mps",
+            "must be >= 0 (0 = no aliasing)");
+    Require(sensor.doppler_unambiguous_mps == 0.0 ||
+                gate_sigmas * doppler_sigma_mps * max_gate_scale < sensor.doppler_unambiguous_mps,
+            "radar.doppler_unambiguous_mps",
+            "must exceed the widest inlier gate gate_sigmas * doppler_sigma_mps * max_gate_scale");
 }
 
 struct EgoVelocityEstimator::Workspace : internal::Workspace {};
@@ -233,9 +247,17 @@ EgoVelocityResult EgoVelocityEstimator::Estimate(const RadarScan &scan_radar) {
             break;
     }
     // Final fit on the final inlier set, so that v and its covariance describe the same points.
-    Eigen::Matrix3d AtWA;
-    solved = (solved || config_.method == RobustMethod::kNone) &&
-             internal::SolveWeighted(ws.system, ws.mask, ws, v, AtWA);
+    // With direction noise, after RANSAC: the bias-compensated fit (direction_noise_fit.cpp).
+    Eigen::Matrix3d AtWA, cov_eiv;
+    const bool eiv = config_.compensate_direction_noise && config_.sensor.has_direction_noise() &&
+                     config_.method == RobustMethod::kRansac;
+    if (eiv) {
+        solved = solved && internal::FitWithDirectionNoise(config_, ws, v, AtWA, cov_eiv);
+        result.direction_noise_compensated = solved;
+    } else {
+        solved = (solved || config_.method == RobustMethod::kNone) &&
+                 internal::SolveWeighted(ws.system, ws.mask, ws, v, AtWA);
+    }
     if (!solved) {
         result.reason = "degenerate geometry: the point directions do not span 3-D";
         return result;
@@ -243,15 +265,29 @@ EgoVelocityResult EgoVelocityEstimator::Estimate(const RadarScan &scan_radar) {
     ws.residual.noalias() = ws.system.A * v;
     ws.residual -= ws.system.b;
     result.inliers = static_cast<int>(ws.mask.sum());
-    for (Eigen::Index k = 0; k < n; ++k)
-        if (ws.mask[k] > 0.0) result.labels[ws.used_to_input[k]] = PointLabel::kStatic;
+    const double span = ws.system.alias_span;
+    for (Eigen::Index k = 0; k < n; ++k) {
+        if (!(ws.mask[k] > 0.0)) continue;
+        result.labels[ws.used_to_input[k]] = PointLabel::kStatic;
+        // b_k = -doppler + j * span after unwrapping: count the static points with j != 0.
+        if (span > 0.0 &&
+            std::abs(ws.system.b[k] + scan_radar.doppler_mps[ws.used_to_input[k]]) > 0.5 * span)
+            ++result.unwrapped;
+    }
 
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(AtWA, Eigen::EigenvaluesOnly);
     const double lambda_min = eig.eigenvalues()[0], lambda_max = eig.eigenvalues()[2];
     result.condition_number = lambda_min > 0.0 ? std::sqrt(lambda_max / lambda_min)
                                                : std::numeric_limits<double>::infinity();
     result.v_radar_mps = v;
-    result.cov_v_radar = Covariance(config_, ws, AtWA, result.inliers, result.residual_sigma_mps);
+    if (eiv) {
+        const double rWr = (ws.weighted.array() * ws.residual.array().square()).sum();
+        result.residual_sigma_mps = std::sqrt(rWr / std::max(result.inliers - 3, 1));
+        result.cov_v_radar = GateConsistencyFactor(config_.gate_sigmas) * cov_eiv;
+    } else {
+        result.cov_v_radar =
+            Covariance(config_, ws, AtWA, result.inliers, result.residual_sigma_mps);
+    }
     result.stationary = v.norm() < config_.stationary_speed_mps;
 
     const double ratio = static_cast<double>(result.inliers) / static_cast<double>(n);

@@ -79,12 +79,14 @@ double Score(const DopplerSystem &s, const Eigen::Vector3d &v, Workspace &ws, in
     const double *ax = s.A.col(0).data(), *ay = s.A.col(1).data(), *az = s.A.col(2).data();
     const double *b = s.b.data(), *gate2 = s.gate2.data();
     const int *cell = s.cell.data();
+    const double span = s.alias_span;  // aliased Doppler: the wrap closest to the hypothesis
     ws.cell_score.setZero();
     ws.cell_inliers.setZero();
     inliers = 0;
     auto score_range = [&](Eigen::Index begin, Eigen::Index end) {
         for (Eigen::Index i = begin; i < end; ++i) {
-            const double r = ax[i] * v.x() + ay[i] * v.y() + az[i] * v.z() - b[i];
+            double r = ax[i] * v.x() + ay[i] * v.y() + az[i] * v.z() - b[i];
+            if (span > 0.0) r -= span * std::round(r / span);
             const double r2 = r * r;
             if (r2 < gate2[i]) {
                 ws.cell_score[cell[i]] += 1.0 - r2 / gate2[i];
@@ -106,6 +108,7 @@ void DrawSubset(const DopplerSystem &from, Eigen::Index count, Workspace &ws, Do
     ws.shuffle.resize(n);
     std::iota(ws.shuffle.begin(), ws.shuffle.end(), 0);
     to.Resize(count);
+    to.alias_span = from.alias_span;
     for (Eigen::Index k = 0; k < count; ++k) {
         std::uniform_int_distribution<Eigen::Index> pick(k, n - 1);
         std::swap(ws.shuffle[k], ws.shuffle[pick(ws.rng)]);
@@ -142,7 +145,7 @@ int RequiredIterations(double inlier_ratio, double success_probability) {
 }  // namespace
 
 bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, int &iterations) {
-    const DopplerSystem &all = ws.system;
+    DopplerSystem &all = ws.system;  // not const: ClassifyInliers unwraps aliased Doppler
     const Eigen::Index n = all.size();
     // Always a shuffled copy, so that its first points are a random sample for the bail-out.
     const Eigen::Index subset_size =
@@ -172,7 +175,10 @@ bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, 
            iterations < config.ransac_max_iterations;
          ++iterations) {
         const Eigen::Index i = pick(ws.rng), j = pick(ws.rng), k = pick(ws.rng);
-        if (i == j || j == k || i == k || !SolveMinimal(s, i, j, k, candidate)) continue;
+        if (i == j || j == k || i == k) continue;
+        if (!(s.alias_span > 0.0 ? SolveMinimalAliased(s, i, j, k, config.max_speed_mps, candidate)
+                                 : SolveMinimal(s, i, j, k, candidate)))
+            continue;
         // Expected inliers among the first `check` points if this hypothesis were as good as the
         // best one, times the bail-out fraction.
         const int min_check = static_cast<int>(config.ransac_bailout_fraction * best_count *

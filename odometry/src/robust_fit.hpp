@@ -18,6 +18,8 @@ struct DopplerSystem {
     Eigen::VectorXd gate2;  ///< squared inlier gate per point [m^2/s^2]
     Eigen::VectorXi cell;   ///< direction cell of each point, for spread-aware scoring
     int num_cells = 1;
+    /// 2 * doppler_unambiguous_mps: b_i is known modulo this (0 = no aliasing).
+    double alias_span = 0.0;
 
     [[nodiscard]] Eigen::Index size() const { return b.size(); }
     void Resize(Eigen::Index n);
@@ -59,14 +61,32 @@ Eigen::Matrix3d SymmetricGram(const Eigen::Matrix<double, Eigen::Dynamic, 3> &X,
 bool SolveWeighted(const DopplerSystem &system, const Eigen::VectorXd &mask, Workspace &ws,
                    Eigen::Vector3d &v, Eigen::Matrix3d &AtWA);
 
-/// Sets ws.residual = A v - b and mask_i = 1 where residual_i^2 < gate2_i; returns the count.
-int ClassifyInliers(const DopplerSystem &system, const Eigen::Vector3d &v, Workspace &ws,
+/// With aliasing (alias_span > 0), moves each b_i by a multiple of alias_span to the value
+/// closest to A_i v (the wrap that fits the hypothesis). No-op otherwise.
+void Unwrap(DopplerSystem &system, const Eigen::Vector3d &v);
+
+/// Unwraps b against v, sets ws.residual = A v - b and mask_i = 1 where residual_i^2 < gate2_i;
+/// returns the count.
+int ClassifyInliers(DopplerSystem &system, const Eigen::Vector3d &v, Workspace &ws,
                     Eigen::VectorXd &mask);
 
 /// SolveWeighted and ClassifyInliers on explicit buffers (`scratch` instead of ws's own).
 bool SolveWeighted(const DopplerSystem &system, const Eigen::VectorXd &mask, Scratch &scratch,
                    Eigen::Vector3d &v, Eigen::Matrix3d &AtWA);
-int ClassifyInliers(const DopplerSystem &system, const Eigen::Vector3d &v, Scratch &scratch);
+int ClassifyInliers(DopplerSystem &system, const Eigen::Vector3d &v, Scratch &scratch);
+
+/// The 3-point model with aliased Doppler (alias_span > 0): the best of the 27 wraps of the
+/// sample (alias_hypotheses.cpp). False for a degenerate sample or no wrap below max_speed_mps.
+bool SolveMinimalAliased(const DopplerSystem &s, Eigen::Index i, Eigen::Index j, Eigen::Index k,
+                         double max_speed_mps, Eigen::Vector3d &v);
+
+/// The final fit with direction noise (config.sensor): per-point total variance
+/// sigma_i^2 + v^T C_i v for the gates, and the bias-compensated (errors-in-variables)
+/// estimating equation sum w_i (d_i b_i - (d_i d_i^T - C_i) S_i^-1 v) = 0, refit until the inlier
+/// set settles, starting from v (RANSAC's). Sets ws.mask, ws.residual, ws.weighted; `AtWA` gets
+/// sum w_i d_i d_i^T on the inliers, `covariance` the sandwich covariance. False when singular.
+bool FitWithDirectionNoise(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v,
+                           Eigen::Matrix3d &AtWA, Eigen::Matrix3d &covariance);
 
 /// RANSAC with 3-point samples, spread-aware MSAC scoring on ws.subset, local refits, then
 /// refit-and-regate on all points. Leaves the inlier mask in ws.mask. False when no

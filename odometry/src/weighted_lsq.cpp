@@ -1,5 +1,6 @@
 // Weighted least squares of eq. (2) on a masked subset of the Doppler system.
 #include <Eigen/Cholesky>
+#include <cmath>
 
 #include "robust_fit.hpp"
 
@@ -65,6 +66,14 @@ int Classify(const DopplerSystem &system, const Eigen::Vector3d &v, Eigen::Vecto
 
 }  // namespace
 
+void Unwrap(DopplerSystem &system, const Eigen::Vector3d &v) {
+    const double span = system.alias_span;
+    if (!(span > 0.0)) return;
+    const Eigen::Index n = system.size();
+    for (Eigen::Index i = 0; i < n; ++i)
+        system.b[i] += span * std::round((system.A.row(i).dot(v) - system.b[i]) / span);
+}
+
 bool SolveWeighted(const DopplerSystem &system, const Eigen::VectorXd &mask, Workspace &ws,
                    Eigen::Vector3d &v, Eigen::Matrix3d &AtWA) {
     return Solve(system, mask, ws.weighted, ws.weighted_A, v, AtWA);
@@ -75,12 +84,14 @@ bool SolveWeighted(const DopplerSystem &system, const Eigen::VectorXd &mask, Scr
     return Solve(system, mask, scratch.weighted, scratch.weighted_A, v, AtWA);
 }
 
-int ClassifyInliers(const DopplerSystem &system, const Eigen::Vector3d &v, Workspace &ws,
+int ClassifyInliers(DopplerSystem &system, const Eigen::Vector3d &v, Workspace &ws,
                     Eigen::VectorXd &mask) {
+    Unwrap(system, v);
     return Classify(system, v, ws.residual, mask);
 }
 
-int ClassifyInliers(const DopplerSystem &system, const Eigen::Vector3d &v, Scratch &scratch) {
+int ClassifyInliers(DopplerSystem &system, const Eigen::Vector3d &v, Scratch &scratch) {
+    Unwrap(system, v);
     return Classify(system, v, scratch.residual, scratch.mask);
 }
 

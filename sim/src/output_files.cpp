@@ -53,6 +53,11 @@ io::DatasetConfig DescribeDataset(const SequenceConfig &config, const Simulation
     d.fields = io::FieldMap{};  // the Hugin layout
     d.extrinsics = result.extrinsics;
     d.vehicle = result.vehicle;
+    // The radar's datasheet: what a user of a real sensor would write.
+    d.radar.range_sigma_m = config.radar.range_sigma_m;
+    d.radar.azimuth_sigma_deg = config.radar.azimuth_sigma_deg;
+    d.radar.elevation_sigma_deg = config.radar.elevation_sigma_deg;
+    d.radar.doppler_unambiguous_mps = config.radar.doppler_unambiguous_mps;
     return d;
 }
 

@@ -111,6 +111,7 @@ TEST_F(DatasetConfigTest, YamlRoundTrip) {
     config.vehicle.half_wheelbase_m = 0.3;
     config.vehicle.model_noise = {0.25, 0.001, 0.03, 0.07, 0.11, {0.3, 0.2, 2.5}};
     config.ground_truth.path = (dir_ / "gt.tum").string();
+    config.radar = {0.08, 0.5, 2.0, 11.5};
     const DatasetConfig back = LoadDatasetConfig(WriteYaml(DatasetConfigToYaml(config)));
     EXPECT_EQ(back.name, "sim");
     EXPECT_EQ(back.rosbag.path, config.rosbag.path);
@@ -128,6 +129,20 @@ TEST_F(DatasetConfigTest, YamlRoundTrip) {
     EXPECT_EQ(back.vehicle.model_noise.angular_rate_prior_sigma_radps,
               Eigen::Vector3d(0.3, 0.2, 2.5));
     EXPECT_EQ(back.ground_truth.path, config.ground_truth.path);
+    EXPECT_EQ(back.radar.range_sigma_m, 0.08);
+    EXPECT_EQ(back.radar.azimuth_sigma_deg, 0.5);
+    EXPECT_EQ(back.radar.elevation_sigma_deg, 2.0);
+    EXPECT_EQ(back.radar.doppler_unambiguous_mps, 11.5);
+}
+
+TEST_F(DatasetConfigTest, RadarSectionNamesBadKeys) {
+    ExpectError("rosbag: {path: x.bag}\nradar: {elevation_sigma_deg: -2}\n",
+                "radar.elevation_sigma_deg': must be a number in [0, 20");
+    ExpectError("rosbag: {path: x.bag}\nradar: {doppler_unambiguous: 11}\n",
+                "radar.doppler_unambiguous': unknown key");
+    const DatasetConfig none = LoadDatasetConfig(WriteYaml("rosbag: {path: x.bag}\n"));
+    EXPECT_FALSE(none.radar.has_direction_noise());
+    EXPECT_EQ(none.radar.doppler_unambiguous_mps, 0.0);
 }
 
 TEST_F(DatasetConfigTest, ResolveDatasetAcceptsBagsYamlAndFolders) {

@@ -61,6 +61,11 @@ TEST_F(SimulatedDataset, DescriptionLoadsWithTheDatasetReader) {
     EXPECT_TRUE(config.extrinsics.T_base_imu.isApprox(seq.imu.mount.Transform(), 1e-12));
     EXPECT_DOUBLE_EQ(config.vehicle.half_wheelbase_m, seq.vehicle.half_wheelbase_m);
     EXPECT_NEAR(config.extrinsics.T_base_radar.translation().x(), 0.72, 1e-12);  // s_x
+    // The radar's datasheet, as the simulator draws its noise and aliasing.
+    EXPECT_DOUBLE_EQ(config.radar.range_sigma_m, seq.radar.range_sigma_m);
+    EXPECT_DOUBLE_EQ(config.radar.azimuth_sigma_deg, seq.radar.azimuth_sigma_deg);
+    EXPECT_DOUBLE_EQ(config.radar.elevation_sigma_deg, seq.radar.elevation_sigma_deg);
+    EXPECT_DOUBLE_EQ(config.radar.doppler_unambiguous_mps, seq.radar.doppler_unambiguous_mps);
 }
 
 TEST_F(SimulatedDataset, BagStreamsBackWithAlignedStamps) {

@@ -58,6 +58,7 @@ void ReadEgoVelocity(io::YamlSection m, odometry::EgoVelocityConfig &c) {
     m.Read("max_condition_number", c.max_condition_number);
     m.Read("max_speed_mps", c.max_speed_mps);
     m.Read("stationary_speed_mps", c.stationary_speed_mps);
+    m.Read("compensate_direction_noise", c.compensate_direction_noise);
     m.RejectUnknownKeys();
 }
 

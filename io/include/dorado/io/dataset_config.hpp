@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dorado/core/extrinsics.hpp"
+#include "dorado/core/radar_sensor.hpp"
 #include "dorado/io/config_error.hpp"
 #include "dorado/io/pointcloud_decoder.hpp"
 
@@ -48,6 +49,8 @@ struct DatasetConfig {
     FieldMap fields;
     Extrinsics extrinsics;
     VehicleGeometry vehicle;
+    /// The radar's noise and Doppler ambiguity (the `radar:` section; all 0 = unknown/none).
+    RadarSensorModel radar;
 };
 
 /// Reads and validates a dataset description. Relative paths are taken relative to the YAML file.

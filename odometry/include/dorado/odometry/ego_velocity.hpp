@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "dorado/core/radar_scan.hpp"
+#include "dorado/core/radar_sensor.hpp"
 
 namespace dorado::odometry {
 
@@ -111,6 +112,20 @@ struct EgoVelocityConfig {
 
     CovarianceModel covariance = CovarianceModel::kSandwich;
 
+    // --- the sensor (the dataset's radar section) ---
+    /// Direction noise and Doppler ambiguity. With direction noise, the final fit after RANSAC
+    /// gates each point by its total variance sigma_i^2 + v^T C_i v (C_i: the covariance of its
+    /// measured direction, growing for weak returns like the Doppler noise) and removes the
+    /// errors-in-variables bias (bias-compensated least squares); with
+    /// doppler_unambiguous_mps > 0, each point's Doppler is unwrapped (by a multiple of 2 v_unamb)
+    /// to the one closest to the hypothesis while RANSAC scores and refits.
+    RadarSensorModel sensor;
+    /// true: the bias-compensated final fit when the sensor has direction noise. Off by default:
+    /// it removes the bias on scenes that follow its model (direction_noise_bias benchmark,
+    /// test_direction_noise) but made the pitch drift of the simulated car sequences worse
+    /// (README, "Direction noise"); false is eq. (2)'s plain weighted least squares.
+    bool compensate_direction_noise = false;
+
     // --- validity ---
     int min_points = 10;  ///< points left after the pre-filters
     int min_inliers = 8;  ///< static inliers
@@ -137,6 +152,11 @@ struct EgoVelocityResult {
     bool stationary = false;
     double condition_number = 0.0;
     int iterations = 0;  ///< RANSAC hypotheses or IRLS rounds
+    /// Static inliers whose Doppler was unwrapped by a multiple of 2 doppler_unambiguous_mps
+    /// (aliased returns used, not rejected).
+    int unwrapped = 0;
+    /// The final fit removed the direction-noise (errors-in-variables) bias.
+    bool direction_noise_compensated = false;
 };
 
 /// Estimates v_radar from a scan: for a static point with unit direction d_i,
