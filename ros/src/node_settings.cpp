@@ -160,6 +160,7 @@ NodeSettings ReadNodeSettings(const ros::NodeHandle &node, const ros::NodeHandle
     s.description = has_config ? "dataset " + config_path : "the paper's Hugin defaults";
     ReadMount(params, has_config, s);
     ReadFrontEnd(params, s);
+    s.front_end.odometry.ego_velocity.sensor = s.dataset.radar;  // the radar: noise, ambiguity
     ReadLive(params, s);
 
     s.input_topic = s.dataset.rosbag.radar_topic;
