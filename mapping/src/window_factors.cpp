@@ -40,10 +40,13 @@ bool WnoaError::Evaluate(double const *const *parameters, double *residuals_ptr,
     const double dt = dt_s_;
     const Eigen::Vector3d a = p_j - p_i;
     const Eigen::Quaterniond c = q_i.conjugate() * q_j;
+    // q and -q are the same rotation: take the shorter way round (w >= 0), else e_r flips sign when
+    // a pose's quaternion crosses hemispheres (yaw through +-180 deg gave 5 deg RPE spikes).
+    const double sign = c.w() < 0.0 ? -1.0 : 1.0;
 
     Eigen::Matrix<double, 12, 1> e;
     e.segment<3>(0) = q_i.conjugate() * a - dt * v_i - 0.5 * dt * dt * w_i.cross(v_i);
-    e.segment<3>(3) = 2.0 * c.vec() - dt * w_i;
+    e.segment<3>(3) = 2.0 * sign * c.vec() - dt * w_i;
     e.segment<3>(6) = v_j - v_i;
     e.segment<3>(9) = w_j - w_i;
     Eigen::Map<Eigen::Matrix<double, 12, 1>> residuals(residuals_ptr);
@@ -67,8 +70,8 @@ bool WnoaError::Evaluate(double const *const *parameters, double *residuals_ptr,
     write(0, E3);
     E4.setZero();  // q_i: conjugate rotation of a, and vec(q_i^* q_j) through a = q_i^*
     E4.block<3, 4>(0, 0) = ConjugateRotationJacobian(q_i.vec(), q_i.w(), a);
-    E4.block<3, 3>(3, 0) = -2.0 * (q_j.w() * I - Hat(q_j.vec()));
-    E4.block<3, 1>(3, 3) = 2.0 * q_j.vec();
+    E4.block<3, 3>(3, 0) = -2.0 * sign * (q_j.w() * I - Hat(q_j.vec()));
+    E4.block<3, 1>(3, 3) = 2.0 * sign * q_j.vec();
     write(1, E4);
     E3.setZero();  // v_i
     E3.block<3, 3>(0, 0) = -dt * I - 0.5 * dt * dt * Hat(w_i);
@@ -83,8 +86,8 @@ bool WnoaError::Evaluate(double const *const *parameters, double *residuals_ptr,
     E3.block<3, 3>(0, 0) = R_i_T;
     write(4, E3);
     E4.setZero();  // q_j
-    E4.block<3, 3>(3, 0) = 2.0 * (q_i.w() * I - Hat(q_i.vec()));
-    E4.block<3, 1>(3, 3) = -2.0 * q_i.vec();
+    E4.block<3, 3>(3, 0) = 2.0 * sign * (q_i.w() * I - Hat(q_i.vec()));
+    E4.block<3, 1>(3, 3) = -2.0 * sign * q_i.vec();
     write(5, E4);
     E3.setZero();  // v_j
     E3.block<3, 3>(6, 0) = I;

@@ -128,7 +128,16 @@ TEST(WindowFactors, WnoaIsNearZeroOnAConstantTwistAndHasCorrectGradients) {
     // Exact to second order: the left-over dt^3/6 w x (w x v) ~ 0.2 mm is < 0.1 sigma whitened.
     EXPECT_LT(r.norm(), 0.1);
 
-    // One extra metre forward on the second pose: e_t = R_i^T (1, 0, 0) world = that in base i.
+    // -q_j is the same rotation: the same residual.
+    WnoaStates flipped = x;
+    flipped.q_j.coeffs() = -flipped.q_j.coeffs();
+    blocks = flipped.Blocks();
+    params.assign(blocks.begin(), blocks.end());
+    Eigen::Matrix<double, 12, 1> r_flipped;
+    ASSERT_TRUE(cost.Evaluate(params.data(), r_flipped.data(), nullptr));
+    EXPECT_NEAR((r_flipped - r).norm(), 0.0, 1e-9);
+
+    // One extra centimetre forward on the second pose: e_t = R_i^T (1, 0, 0) world = that in base i.
     WnoaStates moved = x;
     moved.p_j += kT0.linear() * Eigen::Vector3d(0.01, 0.0, 0.0);
     blocks = moved.Blocks();
@@ -146,6 +155,9 @@ TEST(WindowFactors, WnoaIsNearZeroOnAConstantTwistAndHasCorrectGradients) {
     perturbed.v_j += Eigen::Vector3d(0.3, -0.2, 0.1);
     perturbed.w_i += Eigen::Vector3d(0.05, 0.02, -0.04);
     perturbed.p_j += Eigen::Vector3d(0.2, 0.1, -0.3);
+    ExpectGradientsMatch(cost, perturbed.Blocks(),
+                         {nullptr, &qm, nullptr, nullptr, nullptr, &qm, nullptr, nullptr});
+    perturbed.q_i.coeffs() = -perturbed.q_i.coeffs();  // the w < 0 branch
     ExpectGradientsMatch(cost, perturbed.Blocks(),
                          {nullptr, &qm, nullptr, nullptr, nullptr, &qm, nullptr, nullptr});
 }
