@@ -27,11 +27,11 @@ namespace dorado::mapping {
 
 /// Settings of the window smoother; every default is explained in configs/mapper.yaml (mapper.window).
 struct WindowConfig {
-    int size = 5;  ///< K, the free states (scans) in the window
+    int size = 2;  ///< K, the free states (scans) in the window
     /// White-noise-on-acceleration power spectral densities (Qc diagonal) of the body's linear
     /// [m^2/s^3] and angular [rad^2/s^3] acceleration, per base axis (x forward, y left, z up).
-    Eigen::Vector3d qc_linear{1.0, 0.1, 0.1};
-    Eigen::Vector3d qc_angular{0.01, 0.01, 0.1};
+    Eigen::Vector3d qc_linear{0.01, 0.001, 0.001};
+    Eigen::Vector3d qc_angular{0.0001, 0.0001, 0.001};
     bool use_kinematic_model = true;  ///< the paper's eq. 3-4 as a soft factor (vehicle.model_noise)
     double gyro_sigma_radps = 0.01;   ///< per-scan mean gyro rate noise
     double gyro_bias_sigma_radps = 0.01;  ///< prior on the gyro bias (and on its change per solve)
