@@ -113,7 +113,7 @@ struct RadarMapper::State {
     Eigen::Isometry3d T_world_base_last = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d T_world_base_last_keyframe = Eigen::Isometry3d::Identity();
     int fallbacks = 0;
-    std::optional<WindowSmoother> window;      ///< refinement = kWindow
+    std::optional<WindowSmoother> window;        ///< refinement = kWindow
     std::vector<Correspondence> window_matches;  ///< of the scan being registered
 
     State(const MapperConfig &c, const Extrinsics &e, const VehicleGeometry &g)
@@ -226,8 +226,8 @@ void RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
 // The window smoother's step: the scan's matches (none on a fallback), its static points' Doppler and
 // the gyro rate join the window, initialised at the registered (or prior) pose and at the twist
 // the prior implies. The motion prior itself is not a factor: the Doppler residuals, the kinematic
-// model and the WNOA prior carry the same information (counting it twice made the pose mm-tight
-// around the Doppler dead reckoning). Returns the newest state's pose.
+// model and the WNOA prior carry the information it was built from (the odometry's twist comes
+// from the same Doppler points), so adding it would count them twice. Returns the newest pose.
 Eigen::Isometry3d RadarMapper::State::SmoothWindow(const std::vector<DopplerObservation> &doppler,
                                                    const MotionPrior &prior, double dt_s,
                                                    const Eigen::Vector3d *gyro_base_radps,

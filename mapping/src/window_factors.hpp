@@ -127,7 +127,8 @@ class VectorPriorError : public ceres::SizedCostFunction<3, 3> {
 //
 //   e_t = R_i^T (p_j - p_i) - dt v_i - dt^2/2 (w_i x v_i)   (translation of T_i^-1 T_j against a
 //                                                            constant twist, to second order)
-//   e_r = 2 vec(q_i^* q_j) - dt w_i                          (~ Log(R_i^T R_j) - dt w_i; the sign of
+//   e_r = 2 vec(q_i^* q_j) - dt w_i                          (~ Log(R_i^T R_j) - dt w_i; the sign
+//   of
 //                                                            q_i^* q_j is taken with w >= 0)
 //   e_v = v_j - v_i,   e_w = w_j - w_i                       (J_r^-1(xi) ~ I within a scan)
 //

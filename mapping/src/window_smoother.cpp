@@ -1,4 +1,5 @@
-// The fixed-lag smoother (design and the anchor rule in window_smoother.hpp), alone in its Ceres TU.
+// The fixed-lag smoother (design and the anchor rule in window_smoother.hpp), alone in its Ceres
+// TU.
 #include "dorado/mapping/window_smoother.hpp"
 
 #include <ceres/ceres.h>
@@ -39,7 +40,7 @@ struct Slot {
     Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
     Eigen::Vector3d v = Eigen::Vector3d::Zero();
     Eigen::Vector3d w = Eigen::Vector3d::Zero();
-    WindowScan scan;             ///< measurements (its initial values are not used after Add)
+    WindowScan scan;  ///< measurements (its initial values are not used after Add)
     Eigen::Vector3d kinematic_sigmas = Eigen::Vector3d::Ones();
 };
 
@@ -96,10 +97,10 @@ void WindowSmoother::Impl::Solve() {
                 RegistrationError::Create(m.p_base, m.q_world, m.sqrt_information), loss.get(), p,
                 q);
         for (const WindowDoppler &d : s.scan.doppler)
-            problem.AddResidualBlock(new TwistDopplerError(d.d_radar, d.doppler_mps,
-                                                           extrinsics.T_base_radar,
-                                                           noise.doppler_sigma_mps),
-                                     loss.get(), v, w);
+            problem.AddResidualBlock(
+                new TwistDopplerError(d.d_radar, d.doppler_mps, extrinsics.T_base_radar,
+                                      noise.doppler_sigma_mps),
+                loss.get(), v, w);
         if (config.use_kinematic_model)
             problem.AddResidualBlock(
                 new KinematicError(geometry.half_wheelbase_m, s.kinematic_sigmas), nullptr, v, w);
@@ -120,7 +121,8 @@ void WindowSmoother::Impl::Solve() {
     }
     // Gauge: the anchor's pose is held (the world, or the map built from it); see the header.
     Slot &anchor = slots.front();
-    if (problem.HasParameterBlock(anchor.p.data())) problem.SetParameterBlockConstant(anchor.p.data());
+    if (problem.HasParameterBlock(anchor.p.data()))
+        problem.SetParameterBlockConstant(anchor.p.data());
     if (problem.HasParameterBlock(anchor.q.coeffs().data()))
         problem.SetParameterBlockConstant(anchor.q.coeffs().data());
     if (uses_gyro)

@@ -109,18 +109,23 @@ struct WnoaStates {
 
 WnoaStates ConstantTwist(const Eigen::Vector3d &v, const Eigen::Vector3d &w, double dt) {
     const Eigen::Isometry3d T_j = kT0 * ExpSE3((Vector6d() << v * dt, w * dt).finished());
-    return {kT0.translation(), v, w, T_j.translation(), v, w,
-            Eigen::Quaterniond(kT0.linear()), Eigen::Quaterniond(T_j.linear())};
+    return {kT0.translation(),
+            v,
+            w,
+            T_j.translation(),
+            v,
+            w,
+            Eigen::Quaterniond(kT0.linear()),
+            Eigen::Quaterniond(T_j.linear())};
 }
 
 TEST(WindowFactors, WnoaIsNearZeroOnAConstantTwistAndHasCorrectGradients) {
     const double dt = 0.1;
-    const Eigen::Matrix<double, 6, 1> qc = (Eigen::Matrix<double, 6, 1>() << 1.0, 0.1, 0.1, 0.01,
-                                            0.01, 0.1)
-                                               .finished();
+    const Eigen::Matrix<double, 6, 1> qc =
+        (Eigen::Matrix<double, 6, 1>() << 1.0, 0.1, 0.1, 0.01, 0.01, 0.1).finished();
     WnoaError cost(dt, qc);
-    WnoaStates x = ConstantTwist(Eigen::Vector3d(8.0, 0.3, -0.1), Eigen::Vector3d(0.03, -0.02, 0.4),
-                                 dt);
+    WnoaStates x =
+        ConstantTwist(Eigen::Vector3d(8.0, 0.3, -0.1), Eigen::Vector3d(0.03, -0.02, 0.4), dt);
     std::vector<double *> blocks = x.Blocks();
     std::vector<const double *> params(blocks.begin(), blocks.end());
     Eigen::Matrix<double, 12, 1> r;
@@ -137,7 +142,8 @@ TEST(WindowFactors, WnoaIsNearZeroOnAConstantTwistAndHasCorrectGradients) {
     ASSERT_TRUE(cost.Evaluate(params.data(), r_flipped.data(), nullptr));
     EXPECT_NEAR((r_flipped - r).norm(), 0.0, 1e-9);
 
-    // One extra centimetre forward on the second pose: e_t = R_i^T (1, 0, 0) world = that in base i.
+    // One extra centimetre forward on the second pose: e_t = R_i^T (1, 0, 0) world = that in base
+    // i.
     WnoaStates moved = x;
     moved.p_j += kT0.linear() * Eigen::Vector3d(0.01, 0.0, 0.0);
     blocks = moved.Blocks();

@@ -8,9 +8,9 @@
 ///
 /// How the oldest state leaves the window: it is FIXED, not marginalised. The window holds K free
 /// states plus one anchor before them whose pose is held constant (its twist stays free, with its
-/// own Doppler and kinematic factors); when a state becomes older than the anchor it is dropped with
-/// its factors. Why: the local map the registration residuals match against was built from those
-/// same older poses and is itself held fixed, so the past is already conditioned on; a Schur
+/// own Doppler and kinematic factors); when a state becomes older than the anchor it is dropped
+/// with its factors. Why: the local map the registration residuals match against was built from
+/// those same older poses and is itself held fixed, so the past is already conditioned on; a Schur
 /// marginal of the old poses would count the scans that made the map a second time. What fixing
 /// loses is the marginal information of the dropped twists (the WNOA link to the anchor's twist
 /// only). Ceres headers stay in window_smoother.cpp.
@@ -25,15 +25,17 @@
 
 namespace dorado::mapping {
 
-/// Settings of the window smoother; every default is explained in configs/mapper.yaml (mapper.window).
+/// Settings of the window smoother; every default is explained in configs/mapper.yaml
+/// (mapper.window).
 struct WindowConfig {
     int size = 2;  ///< K, the free states (scans) in the window
     /// White-noise-on-acceleration power spectral densities (Qc diagonal) of the body's linear
     /// [m^2/s^3] and angular [rad^2/s^3] acceleration, per base axis (x forward, y left, z up).
     Eigen::Vector3d qc_linear{0.01, 0.001, 0.001};
     Eigen::Vector3d qc_angular{0.0001, 0.0001, 0.001};
-    bool use_kinematic_model = true;  ///< the paper's eq. 3-4 as a soft factor (vehicle.model_noise)
-    double gyro_sigma_radps = 0.01;   ///< per-scan mean gyro rate noise
+    bool use_kinematic_model =
+        true;                        ///< the paper's eq. 3-4 as a soft factor (vehicle.model_noise)
+    double gyro_sigma_radps = 0.01;  ///< per-scan mean gyro rate noise
     double gyro_bias_sigma_radps = 0.01;  ///< prior on the gyro bias (and on its change per solve)
     int max_iterations = 5;
 
