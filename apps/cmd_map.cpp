@@ -101,7 +101,7 @@ void RegisterMapCommand(CLI::App &app) {
     cmd->add_option("--odometry-config", opt->odometry_config,
                     "Doppler estimator settings (see configs/odometry.yaml)");
     cmd->add_flag("--no-mask", opt->no_mask, "keep the dynamic points (ablation)");
-    cmd->add_option("--refine", opt->refine, "ceres (default) or none (PCL registration only)");
+    cmd->add_option("--refine", opt->refine, "ceres (default), window (fixed-lag smoother) or none (PCL registration only)");
     cmd->callback([opt] { RunMap(*opt); });
 }
 

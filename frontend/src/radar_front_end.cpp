@@ -60,7 +60,7 @@ struct RadarFrontEnd::State {
           extrinsics(e),
           geometry(g),
           odometry(OdometryConfigFor(config), e, g) {
-        if (config.run_mapper) mapper.emplace(config.mapper, e);
+        if (config.run_mapper) mapper.emplace(config.mapper, e, g);
     }
 
     FrontEndConfig config;
@@ -223,7 +223,10 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
         const double dt_s = s.scans_since_reset == 0 ? 0.1 : step.dt_s;
         result.prior = s.BuildPrior(step, scan_radar.stamp_ns, dt_s, result);
         result.times.prior_ms = MillisecondsSince(t_prior);
-        result.registration = s.mapper->Register(scan_radar, result.prior, dt_s, mask);
+        // The gyro feeds the window smoother when the prior is an IMU one.
+        const bool gyro = mapping::NeedsImu(s.config.prior) && gyro_base.allFinite();
+        result.registration = s.mapper->Register(scan_radar, result.prior, dt_s, mask,
+                                                 gyro ? &gyro_base : nullptr);
         result.times.mapper = result.registration.times;
         result.T_world_base = result.registration.T_world_base;
     } else {
@@ -247,7 +250,7 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
 void RadarFrontEnd::Reset(const Eigen::Isometry3d &T_world_base) {
     State &s = *state_;
     s.odometry.Restart(T_world_base);
-    if (s.mapper) s.mapper.emplace(s.config.mapper, s.extrinsics);
+    if (s.mapper) s.mapper.emplace(s.config.mapper, s.extrinsics, s.geometry);
     s.T_world_base_initial = T_world_base;
     s.scans_since_reset = 0;
     s.last_dt_s = 0.0;

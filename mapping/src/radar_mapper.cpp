@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "dorado/mapping/adaptive_threshold.hpp"
@@ -60,6 +61,10 @@ Eigen::Matrix3Xd ThinColumns(const Eigen::Matrix3Xd &points, int max_count) {
     return out;
 }
 
+WindowNoise WindowNoiseOf(const MapperConfig &config) {
+    return {config.doppler_sigma_mps, static_cast<WindowLoss>(config.kernel), config.kernel_scale};
+}
+
 void Require(bool ok, const char *key, const char *what) {
     if (!ok) throw std::invalid_argument(std::string("mapper config: ") + key + " " + what);
 }
@@ -87,6 +92,7 @@ void MapperConfig::Validate() const {
     Require(max_doppler_residuals >= 0, "max_doppler_residuals", "must be >= 0");
     Require(refine_max_iterations >= 1, "refine_max_iterations", "must be >= 1");
     Require(refine_outer_iterations >= 1, "refine_outer_iterations", "must be >= 1");
+    if (refinement == Refinement::kWindow) window.Validate();
     Require(min_correspondences >= 6, "min_correspondences", "must be >= 6");
     Require(max_rms_m > 0.0, "max_rms_m", "must be > 0");
     Require(max_prior_mahalanobis_squared > 0.0, "max_prior_mahalanobis_squared", "must be > 0");
@@ -107,12 +113,17 @@ struct RadarMapper::State {
     Eigen::Isometry3d T_world_base_last = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d T_world_base_last_keyframe = Eigen::Isometry3d::Identity();
     int fallbacks = 0;
+    std::optional<WindowSmoother> window;        ///< refinement = kWindow
+    std::vector<Correspondence> window_matches;  ///< of the scan being registered
 
-    State(const MapperConfig &c, const Extrinsics &e)
+    State(const MapperConfig &c, const Extrinsics &e, const VehicleGeometry &g)
         : config(c),
           extrinsics(e),
           map(c.map),
-          threshold(c.initial_threshold_m, c.min_threshold_m, c.min_motion_m, c.max_range_m) {}
+          threshold(c.initial_threshold_m, c.min_threshold_m, c.min_motion_m, c.max_range_m) {
+        if (c.refinement == Refinement::kWindow)
+            window.emplace(c.window, WindowNoiseOf(c), e, g);
+    }
 
     bool IsKeyframe(const Eigen::Isometry3d &T) const {
         if (config.keyframe_distance_m <= 0.0 && config.keyframe_angle_deg <= 0.0) return true;
@@ -127,11 +138,16 @@ struct RadarMapper::State {
     void Refine(const Eigen::Matrix3Xd &source_base,
                 const std::vector<DopplerObservation> &doppler_all, const MotionPrior &prior,
                 double dt_s, Association association, RegistrationResult &result) const;
+    Eigen::Isometry3d SmoothWindow(const std::vector<DopplerObservation> &doppler,
+                                   const MotionPrior &prior, double dt_s,
+                                   const Eigen::Vector3d *gyro_base_radps,
+                                   const RegistrationResult &result);
 };
 
-RadarMapper::RadarMapper(const MapperConfig &config, const Extrinsics &extrinsics) {
+RadarMapper::RadarMapper(const MapperConfig &config, const Extrinsics &extrinsics,
+                         const VehicleGeometry &geometry) {
     config.Validate();
-    state_ = std::make_unique<State>(config, extrinsics);
+    state_ = std::make_unique<State>(config, extrinsics, geometry);
 }
 RadarMapper::~RadarMapper() = default;
 RadarMapper::RadarMapper(RadarMapper &&) noexcept = default;
@@ -206,6 +222,34 @@ void RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
     result.fitness_rms_m = association.rms_m;
 }
 
+// The window smoother's step: the scan's matches (none on a fallback), its static points' Doppler and
+// the gyro rate join the window, initialised at the registered (or prior) pose and at the twist
+// the prior implies. The motion prior itself is not a factor: the Doppler residuals, the kinematic
+// model and the WNOA prior carry the information it was built from (the odometry's twist comes
+// from the same Doppler points), so adding it would count them twice. Returns the newest pose.
+Eigen::Isometry3d RadarMapper::State::SmoothWindow(const std::vector<DopplerObservation> &doppler,
+                                                   const MotionPrior &prior, double dt_s,
+                                                   const Eigen::Vector3d *gyro_base_radps,
+                                                   const RegistrationResult &result) {
+    WindowScan scan;
+    scan.dt_s = dt_s;
+    scan.T_world_base_initial = result.T_world_base;
+    if (has_pose) {
+        const Vector6d xi = LogSE3(T_world_base_last.inverse() * prior.T_world_base) / dt_s;
+        scan.v_base_initial = xi.head<3>();
+        scan.omega_base_initial = xi.tail<3>();
+    }
+    scan.matches.reserve(window_matches.size());
+    for (const Correspondence &m : window_matches)
+        scan.matches.push_back({m.p_base, m.q_world, m.sqrt_information});
+    if (config.use_doppler)
+        for (const DopplerObservation &d : Thin(doppler, config.max_doppler_residuals))
+            scan.doppler.push_back({d.d_radar, d.doppler_mps});
+    if (gyro_base_radps != nullptr && gyro_base_radps->allFinite())
+        scan.gyro_base_radps = *gyro_base_radps;
+    return window->Add(scan).T_world_base;
+}
+
 // Scan-to-map registration from the prior (PCL), its checks, then the refinement. Leaves
 // result.T_world_base at the prior with a fallback reason when registration is not trusted.
 void RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source_base,
@@ -232,6 +276,7 @@ void RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source_base,
         return;
     }
     result.T_world_base = aligned.T_world_base;
+    if (config.refinement == Refinement::kWindow) window_matches = association.matches;
     if (config.refinement == Refinement::kCeres) {
         const auto t_refine = Clock::now();
         Refine(source_base, doppler, prior, dt_s, association, result);
@@ -242,7 +287,8 @@ void RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source_base,
 }
 
 RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const MotionPrior &prior,
-                                         double dt_s, const PointMask *static_mask) {
+                                         double dt_s, const PointMask *static_mask,
+                                         const Eigen::Vector3d *gyro_base_radps) {
     State &s = *state_;
     const MapperConfig &config = s.config;
     if (static_mask != nullptr && static_mask->size() != scan_radar.size())
@@ -257,6 +303,7 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
     const auto t_start = Clock::now();
     RegistrationResult result;
     result.T_world_base = prior.T_world_base;
+    s.window_matches.clear();
     result.threshold_m = s.threshold.Threshold();
 
     // 1. Points: range gate, dynamic mask, base frame, voxel downsampling.
@@ -279,6 +326,12 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
     if (result.fallback) {
         result.T_world_base = prior.T_world_base;
         ++s.fallbacks;
+    }
+    if (s.window) {  // every scan enters the window; a fallback one without registration residuals
+        const auto t_window = Clock::now();
+        result.T_world_base =
+            s.SmoothWindow(points.doppler, prior, dt_s, gyro_base_radps, result);
+        result.times.refinement_ms = MillisecondsSince(t_window);
     }
 
     // 4. Map update (keyframes only, when configured).
@@ -330,14 +383,16 @@ const char *ToString(Refinement refinement) {
             return "none";
         case Refinement::kCeres:
             return "ceres";
+        case Refinement::kWindow:
+            return "window";
     }
     return "?";
 }
 
 Refinement ParseRefinement(const std::string &name) {
-    for (auto r : {Refinement::kNone, Refinement::kCeres})
+    for (auto r : {Refinement::kNone, Refinement::kCeres, Refinement::kWindow})
         if (name == ToString(r)) return r;
-    throw std::invalid_argument("unknown refinement '" + name + "' (none, ceres)");
+    throw std::invalid_argument("unknown refinement '" + name + "' (none, ceres, window)");
 }
 
 RegistrationMethod ParseRegistrationMethod(const std::string &name) {

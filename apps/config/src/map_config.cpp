@@ -39,6 +39,15 @@ void ReadMapper(YamlSection s, mapping::MapperConfig &c) {
     s.Read("max_doppler_residuals", c.max_doppler_residuals);
     s.Read("refine_max_iterations", c.refine_max_iterations);
     s.Read("refine_outer_iterations", c.refine_outer_iterations);
+    YamlSection window = s.Child("window");
+    window.Read("size", c.window.size);
+    window.ReadVector3("qc_linear", c.window.qc_linear);
+    window.ReadVector3("qc_angular", c.window.qc_angular);
+    window.Read("use_kinematic_model", c.window.use_kinematic_model);
+    window.Read("gyro_sigma_radps", c.window.gyro_sigma_radps);
+    window.Read("gyro_bias_sigma_radps", c.window.gyro_bias_sigma_radps);
+    window.Read("max_iterations", c.window.max_iterations);
+    window.RejectUnknownKeys();
     s.Read("min_correspondences", c.min_correspondences);
     s.Read("max_rms_m", c.max_rms_m);
     s.Read("min_observability", c.min_observability);

@@ -14,11 +14,14 @@
 #include "dorado/core/radar_scan.hpp"
 #include "dorado/mapping/local_map.hpp"
 #include "dorado/mapping/motion_prior.hpp"
+#include "dorado/mapping/window_smoother.hpp"
 
 namespace dorado::mapping {
 
 enum class RegistrationMethod { kPointToPoint, kPointToPlane, kGicp };
-enum class Refinement { kNone, kCeres };
+/// kCeres: the new pose alone (registration + Doppler + prior); kWindow: the fixed-lag smoother
+/// over the last window.size scans (window_smoother.hpp).
+enum class Refinement { kNone, kCeres, kWindow };
 enum class RobustKernel { kNone, kHuber, kCauchy, kTukey };
 
 /// Every default is explained in configs/mapper.yaml.
@@ -56,6 +59,7 @@ struct MapperConfig {
     int max_doppler_residuals = 150;
     int refine_max_iterations = 5;
     int refine_outer_iterations = 1;  ///< re-associate and refine this many times
+    WindowConfig window;              ///< refinement = kWindow
 
     // When registration is not trusted and the pose falls back to the prior.
     int min_correspondences = 40;
@@ -103,7 +107,9 @@ using PointMask = Eigen::Array<bool, Eigen::Dynamic, 1>;
 
 class RadarMapper {
   public:
-    RadarMapper(const MapperConfig &config, const Extrinsics &extrinsics);
+    /// The geometry (half wheelbase, model noise) is used by the window smoother's kinematic factor.
+    RadarMapper(const MapperConfig &config, const Extrinsics &extrinsics,
+                const VehicleGeometry &geometry = VehicleGeometry{});
     ~RadarMapper();
     RadarMapper(RadarMapper &&) noexcept;
     RadarMapper &operator=(RadarMapper &&) noexcept;
@@ -111,9 +117,12 @@ class RadarMapper {
     /// Registers one scan (radar frame). dt_s is the time since the previous registered scan (the
     /// interval over which the Doppler residuals compare the pose's velocity). With static_mask,
     /// only points flagged true are registered, used as Doppler residuals and added to the map.
+    /// gyro_base_radps (the interval's mean gyro rate in the base frame) feeds the window smoother's
+    /// gyro factor; other refinements ignore it.
     /// Throws std::invalid_argument on a mask of the wrong size or a non-finite dt.
     RegistrationResult Register(const RadarScan &scan_radar, const MotionPrior &prior, double dt_s,
-                                const PointMask *static_mask = nullptr);
+                                const PointMask *static_mask = nullptr,
+                                const Eigen::Vector3d *gyro_base_radps = nullptr);
 
     [[nodiscard]] const LocalMap &local_map() const;
     [[nodiscard]] const MapperConfig &config() const;
@@ -127,7 +136,7 @@ class RadarMapper {
 
 [[nodiscard]] const char *ToString(RegistrationMethod method);
 [[nodiscard]] const char *ToString(RobustKernel kernel);
-/// "none" | "ceres".
+/// "none" | "ceres" | "window".
 [[nodiscard]] const char *ToString(Refinement refinement);
 /// The inverse of ToString(Refinement); throws std::invalid_argument listing the choices.
 [[nodiscard]] Refinement ParseRefinement(const std::string &name);
