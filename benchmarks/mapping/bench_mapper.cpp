@@ -10,7 +10,7 @@
 
 #include <random>
 
-#include "../../tests/mapping/synthetic_radar.hpp"
+#include "dorado/testing/street_scene.hpp"
 #include "dorado/mapping/radar_mapper.hpp"
 
 namespace dorado::mapping {

@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "../../tests/odometry/synthetic_scan.hpp"
+#include "dorado/testing/doppler_scan.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
 
 using namespace dorado::odometry;

@@ -1,4 +1,4 @@
-// Ego-velocity on crowded street-like scans (crowd_scene.hpp) at 500, 2 000, 5 000 and 20 000
+// Ego-velocity on crowded street-like scans (dorado/testing/crowd_scan.hpp) at 500, 2 000, 5 000 and 20 000
 // points: dorado's estimator next to the paper's reference RANSAC (reference_ransac.hpp), time per
 // scan (median, p95, p95/median) and accuracy (RMSE over the scans against the Cramer-Rao bound of
 // the static points), side by side. Each scan is timed `reps` times and its fastest run kept, so
@@ -13,13 +13,13 @@
 #include <functional>
 #include <vector>
 
-#include "crowd_scene.hpp"
+#include "dorado/testing/crowd_scan.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
 #include "reference_ransac.hpp"
 
 namespace {
 
-using dorado::benchmarks::CrowdScene;
+using dorado::testing::CrowdScene;
 
 double ThreadMs() {
     timespec t{};
@@ -90,10 +90,10 @@ int main(int argc, char **argv) {
         std::vector<CrowdScene> scenes;
         std::vector<double> crb;
         for (int k = 0; k < count; ++k) {
-            dorado::benchmarks::CrowdOptions o;
+            dorado::testing::CrowdOptions o;
             o.points = points;
             o.seed = 9000 + static_cast<uint64_t>(k);
-            scenes.push_back(dorado::benchmarks::MakeCrowdScan(o));
+            scenes.push_back(dorado::testing::MakeCrowdScan(o));
             const auto &s = scenes.back().scan;
             Eigen::Matrix3Xd dirs(3, points);
             Eigen::VectorXd sigma(points);

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "../../tests/odometry/synthetic_scan.hpp"
+#include "dorado/testing/doppler_scan.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
 
 namespace {
@@ -17,12 +17,12 @@ using dorado::odometry::RobustMethod;
 std::vector<dorado::RadarScan> Scans(int points, double dynamic_fraction, bool coherent) {
     std::vector<dorado::RadarScan> scans;
     for (int k = 0; k < 8; ++k) {
-        dorado::odometry::testing::SceneOptions o;
+        dorado::testing::SceneOptions o;
         o.points = points;
         o.dynamic_fraction = dynamic_fraction;
         o.coherent_crowd = coherent;
         o.seed = 100 + k;
-        scans.push_back(dorado::odometry::testing::MakeScan(o).scan);
+        scans.push_back(dorado::testing::MakeScan(o).scan);
     }
     return scans;
 }

@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "../../tests/odometry/noisy_direction_scene.hpp"
+#include "dorado/testing/noisy_direction_scan.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
 
 using namespace dorado::odometry;

@@ -8,17 +8,17 @@
 #include "dorado/core/lie.hpp"
 #include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/odometry/kinematic_model.hpp"
-#include "synthetic_radar.hpp"
+#include "dorado/testing/street_scene.hpp"
 
 namespace dorado::frontend {
 namespace {
 
 using mapping::PriorKind;
-using mapping::testing::MakeDrive;
-using mapping::testing::MakeStreetWorld;
-using mapping::testing::RadarSimOptions;
-using mapping::testing::SimulateScan;
-using mapping::testing::TruthSample;
+using testing::MakeDrive;
+using testing::MakeStreetWorld;
+using testing::RadarSimOptions;
+using testing::SimulateScan;
+using testing::TruthSample;
 
 constexpr int64_t kDtNs = 100'000'000;  // 10 Hz
 

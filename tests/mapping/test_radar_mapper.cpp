@@ -6,7 +6,7 @@
 
 #include "dorado/core/lie.hpp"
 #include "dorado/mapping/radar_mapper.hpp"
-#include "synthetic_radar.hpp"
+#include "dorado/testing/street_scene.hpp"
 
 namespace dorado::mapping {
 namespace {

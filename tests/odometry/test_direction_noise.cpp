@@ -5,7 +5,7 @@
 #include <Eigen/Cholesky>
 
 #include "dorado/odometry/ego_velocity.hpp"
-#include "noisy_direction_scene.hpp"
+#include "dorado/testing/noisy_direction_scan.hpp"
 
 namespace dorado::odometry {
 namespace {

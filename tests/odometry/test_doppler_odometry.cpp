@@ -7,7 +7,7 @@
 #include "dorado/core/lie.hpp"
 #include "dorado/core/time.hpp"
 #include "dorado/odometry/doppler_odometry.hpp"
-#include "synthetic_scan.hpp"
+#include "dorado/testing/doppler_scan.hpp"
 
 namespace dorado::odometry {
 namespace {

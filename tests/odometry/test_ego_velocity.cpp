@@ -1,11 +1,11 @@
-// EgoVelocityEstimator against synthetic scenes with known truth (see synthetic_scan.hpp).
+// EgoVelocityEstimator against synthetic scenes with known truth (see dorado/testing/doppler_scan.hpp).
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
 #include <cstdio>
 
 #include "dorado/odometry/ego_velocity.hpp"
-#include "synthetic_scan.hpp"
+#include "dorado/testing/doppler_scan.hpp"
 
 namespace dorado::odometry {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "dorado/core/radar_scan.hpp"
 
-namespace dorado::odometry::testing {
+namespace dorado::testing {
 
 struct NoisyDirectionOptions {
     int points = 800;
@@ -64,4 +64,4 @@ inline NoisyDirectionScan MakeNoisyDirectionScan(const NoisyDirectionOptions &o)
     return out;
 }
 
-}  // namespace dorado::odometry::testing
+}  // namespace dorado::testing

@@ -11,7 +11,7 @@
 #include "dorado/core/lie.hpp"
 #include "dorado/core/radar_scan.hpp"
 
-namespace dorado::mapping::testing {
+namespace dorado::testing {
 
 /// A dense cloud of static world points: two building rows along a street with gaps, the ground,
 /// poles and parked boxes (3D structure in every direction, as in a town).
@@ -167,4 +167,4 @@ inline std::vector<TruthSample> MakeDrive(int scans, double dt) {
     return out;
 }
 
-}  // namespace dorado::mapping::testing
+}  // namespace dorado::testing

@@ -10,7 +10,7 @@
 
 #include "dorado/core/radar_scan.hpp"
 
-namespace dorado::odometry::testing {
+namespace dorado::testing {
 
 struct SceneOptions {
     int points = 2000;
@@ -89,4 +89,4 @@ inline SyntheticScan MakeScan(const SceneOptions &o) {
     return out;
 }
 
-}  // namespace dorado::odometry::testing
+}  // namespace dorado::testing

@@ -13,15 +13,15 @@
 #include <random>
 #include <vector>
 
-#include "../../tests/odometry/synthetic_scan.hpp"
+#include "dorado/testing/doppler_scan.hpp"
 
-namespace dorado::benchmarks {
+namespace dorado::testing {
 
 /// What each point of a crowd scan is (the truth).
 enum class CrowdPointKind { kGround, kStructure, kMover, kClutter, kGhost };
 
 struct CrowdScene {
-    odometry::testing::SyntheticScan scan;  ///< scan, truth mask (non-static = dynamic), sigma
+    SyntheticScan scan;  ///< scan, truth mask (non-static = dynamic), sigma
     std::vector<CrowdPointKind> kind;
     Eigen::Vector3d v_radar;  ///< true radar velocity
 };
@@ -195,4 +195,4 @@ inline CrowdScene MakeCrowdScan(const CrowdOptions &o) {
     return out;
 }
 
-}  // namespace dorado::benchmarks
+}  // namespace dorado::testing
