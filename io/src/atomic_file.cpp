@@ -21,6 +21,10 @@ void WriteFileAtomically(const std::string &path,
             throw std::runtime_error(path + ": write failed (disk full?)");
         }
     }
+    RenameIntoPlace(tmp, path);
+}
+
+void RenameIntoPlace(const std::string &tmp, const std::string &path) {
     std::error_code ec;
     std::filesystem::rename(tmp, path, ec);
     if (ec) {

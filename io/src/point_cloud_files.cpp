@@ -1,14 +1,14 @@
 #include "dorado/io/point_cloud_files.hpp"
 
+#include "dorado/io/atomic_file.hpp"
+
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
 #include <cstdio>
-#include <filesystem>
 #include <stdexcept>
-#include <system_error>
 
 namespace dorado::io {
 namespace {

@@ -13,6 +13,10 @@ namespace dorado::io {
 /// Throws std::runtime_error naming the file when it cannot be written.
 void WriteFileAtomically(const std::string &path, const std::function<void(std::ostream &)> &write);
 
+/// Renames the finished `tmp` over `path` (removing `tmp` and throwing std::runtime_error naming
+/// `path` when it cannot).
+void RenameIntoPlace(const std::string &tmp, const std::string &path);
+
 /// Creates the directory (and its parents); throws std::runtime_error naming it on failure.
 void MakeDirectories(const std::string &path);
 
