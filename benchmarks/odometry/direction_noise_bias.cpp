@@ -12,6 +12,7 @@
 #include "dorado/odometry/ego_velocity.hpp"
 
 using namespace dorado::odometry;
+namespace testing = dorado::testing;
 
 namespace {
 

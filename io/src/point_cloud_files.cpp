@@ -33,13 +33,7 @@ void WriteAtomically(const std::string &path, Write write) {
         std::remove(tmp.c_str());
         throw std::runtime_error(path + ": cannot write the point cloud");
     }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::remove(tmp.c_str());
-        throw std::runtime_error(path +
-                                 ": cannot rename the finished file into place: " + ec.message());
-    }
+    RenameIntoPlace(tmp, path);
 }
 
 }  // namespace
