@@ -146,7 +146,10 @@ void RegisterCalibrateCommand(CLI::App &app) {
     cmd->add_option("STEP", opt->step, "rotation | roll | sx")
         ->required()
         ->check(CLI::IsMember({"rotation", "roll", "sx"}));
-    cmd->add_option("DATASET", opt->dataset, "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")->required();
+    cmd->add_option(
+           "DATASET", opt->dataset,
+           "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")
+        ->required();
     cmd->add_option("--from", opt->from_s, "start [s from the first scan]");
     cmd->add_option("--to", opt->to_s, "end [s from the first scan]");
     cmd->add_option("--out", opt->out, "YAML snippet to write")->required();

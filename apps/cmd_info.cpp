@@ -192,9 +192,10 @@ void RegisterInfoCommand(CLI::App &app) {
     auto *cmd = app.add_subcommand(
         "info", "Print what a dataset holds: topics, scan rate, points per scan, fields, problems");
     auto dataset = std::make_shared<std::string>();
-    cmd->add_option("DATASET", *dataset,
-                    "dataset description (.yaml), a recording (ROS1 .bag, rosbag2 .db3 or .mcap, or a "
-                    "rosbag2 folder), or a folder with dataset.yaml")
+    cmd->add_option(
+           "DATASET", *dataset,
+           "dataset description (.yaml), a recording (ROS1 .bag, rosbag2 .db3 or .mcap, or a "
+           "rosbag2 folder), or a folder with dataset.yaml")
         ->required();
     cmd->callback([dataset]() {
         const int code = RunInfo(*dataset);

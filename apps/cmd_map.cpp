@@ -93,7 +93,10 @@ void RegisterMapCommand(CLI::App &app) {
     auto *cmd = app.add_subcommand("map",
                                    "Radar scan-to-map mapping with a motion prior, the Doppler "
                                    "dynamic-point mask and a Doppler-aware Ceres refinement.");
-    cmd->add_option("DATASET", opt->dataset, "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")->required();
+    cmd->add_option(
+           "DATASET", opt->dataset,
+           "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")
+        ->required();
     cmd->add_option("--out", opt->out, "output folder")->required();
     cmd->add_option("--prior", opt->prior,
                     "motion prior: none | constvel | imu | doppler (default) | imu+doppler");
@@ -101,7 +104,8 @@ void RegisterMapCommand(CLI::App &app) {
     cmd->add_option("--odometry-config", opt->odometry_config,
                     "Doppler estimator settings (see configs/odometry.yaml)");
     cmd->add_flag("--no-mask", opt->no_mask, "keep the dynamic points (ablation)");
-    cmd->add_option("--refine", opt->refine, "ceres (default), window (fixed-lag smoother) or none (PCL registration only)");
+    cmd->add_option("--refine", opt->refine,
+                    "ceres (default), window (fixed-lag smoother) or none (PCL registration only)");
     cmd->callback([opt] { RunMap(*opt); });
 }
 

@@ -179,7 +179,10 @@ void RegisterOdometryCommand(CLI::App &app) {
                                    "Doppler-only single-scan odometry (Galeote-Luque et al.): "
                                    "radar velocity per scan, vehicle "
                                    "twist from the kinematic model, integrated on SE(3).");
-    cmd->add_option("DATASET", opt->dataset, "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")->required();
+    cmd->add_option(
+           "DATASET", opt->dataset,
+           "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")
+        ->required();
     cmd->add_option("--out", opt->out, "output folder")->required();
     cmd->add_option("--config", opt->config, "odometry settings (see configs/odometry.yaml)");
     cmd->add_option("--method", opt->method,

@@ -10,8 +10,8 @@
 
 #include <random>
 
-#include "dorado/testing/street_scene.hpp"
 #include "dorado/mapping/radar_mapper.hpp"
+#include "dorado/testing/street_scene.hpp"
 
 namespace dorado::mapping {
 namespace {

@@ -8,8 +8,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "dorado/testing/doppler_scan.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
+#include "dorado/testing/doppler_scan.hpp"
 
 using namespace dorado::odometry;
 namespace testing = dorado::testing;

@@ -1,11 +1,11 @@
-// Ego-velocity on crowded street-like scans (dorado/testing/crowd_scan.hpp) at 500, 2 000, 5 000 and 20 000
-// points: dorado's estimator next to the paper's reference RANSAC (reference_ransac.hpp), time per
-// scan (median, p95, p95/median) and accuracy (RMSE over the scans against the Cramer-Rao bound of
-// the static points), side by side. Each scan is timed `reps` times and its fastest run kept, so
-// that the spread over scans is the algorithm's (outlier structure), not the shared machine's;
-// times are the thread's CPU time (CLOCK_THREAD_CPUTIME_ID), so that other processes on a loaded
-// machine do not count.
-// Run: build/benchmarks/odometry/bench_crowd_ego_velocity [scans=200] [reps=3]
+// Ego-velocity on crowded street-like scans (dorado/testing/crowd_scan.hpp) at 500, 2 000, 5 000
+// and 20 000 points: dorado's estimator next to the paper's reference RANSAC
+// (reference_ransac.hpp), time per scan (median, p95, p95/median) and accuracy (RMSE over the scans
+// against the Cramer-Rao bound of the static points), side by side. Each scan is timed `reps` times
+// and its fastest run kept, so that the spread over scans is the algorithm's (outlier structure),
+// not the shared machine's; times are the thread's CPU time (CLOCK_THREAD_CPUTIME_ID), so that
+// other processes on a loaded machine do not count. Run:
+// build/benchmarks/odometry/bench_crowd_ego_velocity [scans=200] [reps=3]
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -13,8 +13,8 @@
 #include <functional>
 #include <vector>
 
-#include "dorado/testing/crowd_scan.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
+#include "dorado/testing/crowd_scan.hpp"
 #include "reference_ransac.hpp"
 
 namespace {

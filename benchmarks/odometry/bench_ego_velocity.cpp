@@ -4,8 +4,8 @@
 
 #include <vector>
 
-#include "dorado/testing/doppler_scan.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
+#include "dorado/testing/doppler_scan.hpp"
 
 namespace {
 

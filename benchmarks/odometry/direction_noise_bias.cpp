@@ -8,8 +8,8 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "dorado/testing/noisy_direction_scan.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
+#include "dorado/testing/noisy_direction_scan.hpp"
 
 using namespace dorado::odometry;
 namespace testing = dorado::testing;

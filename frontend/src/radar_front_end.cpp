@@ -225,8 +225,8 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
         result.times.prior_ms = MillisecondsSince(t_prior);
         // The gyro feeds the window smoother when the prior is an IMU one.
         const bool gyro = mapping::NeedsImu(s.config.prior) && gyro_base.allFinite();
-        result.registration = s.mapper->Register(scan_radar, result.prior, dt_s, mask,
-                                                 gyro ? &gyro_base : nullptr);
+        result.registration =
+            s.mapper->Register(scan_radar, result.prior, dt_s, mask, gyro ? &gyro_base : nullptr);
         result.times.mapper = result.registration.times;
         result.T_world_base = result.registration.T_world_base;
     } else {

@@ -9,11 +9,16 @@ namespace dorado::mapping {
 
 const char *ToString(PriorKind kind) {
     switch (kind) {
-        case PriorKind::kNone: return "none";
-        case PriorKind::kConstVel: return "constvel";
-        case PriorKind::kImu: return "imu";
-        case PriorKind::kDoppler: return "doppler";
-        case PriorKind::kImuDoppler: return "imu+doppler";
+        case PriorKind::kNone:
+            return "none";
+        case PriorKind::kConstVel:
+            return "constvel";
+        case PriorKind::kImu:
+            return "imu";
+        case PriorKind::kDoppler:
+            return "doppler";
+        case PriorKind::kImuDoppler:
+            return "imu+doppler";
     }
     return "?";
 }
@@ -25,7 +30,6 @@ PriorKind ParsePriorKind(const std::string &name) {
     throw std::invalid_argument("'" + name +
                                 "' is not one of: none, constvel, imu, doppler, imu+doppler");
 }
-
 
 namespace {
 

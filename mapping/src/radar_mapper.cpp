@@ -121,8 +121,7 @@ struct RadarMapper::State {
           extrinsics(e),
           map(c.map),
           threshold(c.initial_threshold_m, c.min_threshold_m, c.min_motion_m, c.max_range_m) {
-        if (c.refinement == Refinement::kWindow)
-            window.emplace(c.window, WindowNoiseOf(c), e, g);
+        if (c.refinement == Refinement::kWindow) window.emplace(c.window, WindowNoiseOf(c), e, g);
     }
 
     bool IsKeyframe(const Eigen::Isometry3d &T) const {
@@ -222,8 +221,8 @@ void RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
     result.fitness_rms_m = association.rms_m;
 }
 
-// The window smoother's step: the scan's matches (none on a fallback), its static points' Doppler and
-// the gyro rate join the window, initialised at the registered (or prior) pose and at the twist
+// The window smoother's step: the scan's matches (none on a fallback), its static points' Doppler
+// and the gyro rate join the window, initialised at the registered (or prior) pose and at the twist
 // the prior implies. The motion prior itself is not a factor: the Doppler residuals, the kinematic
 // model and the WNOA prior carry the information it was built from (the odometry's twist comes
 // from the same Doppler points), so adding it would count them twice. Returns the newest pose.
@@ -329,8 +328,7 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
     }
     if (s.window) {  // every scan enters the window; a fallback one without registration residuals
         const auto t_window = Clock::now();
-        result.T_world_base =
-            s.SmoothWindow(points.doppler, prior, dt_s, gyro_base_radps, result);
+        result.T_world_base = s.SmoothWindow(points.doppler, prior, dt_s, gyro_base_radps, result);
         result.times.refinement_ms = MillisecondsSince(t_window);
     }
 

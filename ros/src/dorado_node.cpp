@@ -247,14 +247,14 @@ void DoradoNode::WatchImu(bool imu_current, int64_t stamp_ns) {
             last_ns = last_imu_stamp_ns_;
         }
         warnings_.Count("imu stalled", settings_.imu_topic);
-        ROS_WARN("dorado_ros: %s has stalled (%s): %s until it resumes",
-                 settings_.imu_topic.c_str(),
-                 last_ns == 0 ? "no sample yet"
-                              : ("last sample " +
-                                 std::to_string(static_cast<double>(stamp_ns - last_ns) * 1e-9) +
-                                 " s before the scan")
-                                    .c_str(),
-                 prior_needs_imu ? "the doppler prior stands in" : "the odometry falls back");
+        ROS_WARN(
+            "dorado_ros: %s has stalled (%s): %s until it resumes", settings_.imu_topic.c_str(),
+            last_ns == 0
+                ? "no sample yet"
+                : ("last sample " + std::to_string(static_cast<double>(stamp_ns - last_ns) * 1e-9) +
+                   " s before the scan")
+                      .c_str(),
+            prior_needs_imu ? "the doppler prior stands in" : "the odometry falls back");
     } else if (imu_current && imu_stalled_) {
         imu_stalled_ = false;
         if (prior_needs_imu) front_end_.SetPrior(settings_.front_end.prior);
@@ -272,10 +272,11 @@ void DoradoNode::WatchImu(bool imu_current, int64_t stamp_ns) {
 void DoradoNode::ReportPrior(const frontend::FrontEndResult &result) {
     if (!result.prior_substitution.empty() && !result.prior_first_scan &&
         warnings_.Count("prior substituted", result.prior_substitution))
-        ROS_WARN("dorado_ros: the %s prior could not be built (%s): the %s prior stood in "
-                 "(further ones are summarised)",
-                 mapping::ToString(result.prior_requested), result.prior_substitution.c_str(),
-                 mapping::ToString(result.prior_used));
+        ROS_WARN(
+            "dorado_ros: the %s prior could not be built (%s): the %s prior stood in "
+            "(further ones are summarised)",
+            mapping::ToString(result.prior_requested), result.prior_substitution.c_str(),
+            mapping::ToString(result.prior_used));
     if (result.odometry.used_fallback &&
         warnings_.Count("odometry fallback", result.odometry.fallback_reason))
         ROS_WARN("dorado_ros: odometry fell back: %s (further ones are summarised)",

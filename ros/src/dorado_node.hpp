@@ -75,7 +75,7 @@ class DoradoNode {
     bool stop_ = false;
     long long received_ = 0, processed_ = 0, published_ = 0, resets_ = 0;
     long long late_drops_ = 0, late_drops_seen_ = 0;  ///< a gap the node made is not a stall
-    bool imu_stalled_ = false;  ///< worker only
+    bool imu_stalled_ = false;                        ///< worker only
     Clock::time_point last_report_, last_local_map_;
     std::thread worker_;
 };

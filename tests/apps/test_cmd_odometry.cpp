@@ -115,9 +115,9 @@ TEST_F(CmdOdometry, ImuRotationAndImuOnly) {
     for (const std::string mode : {"imu+doppler", "imu"}) {
         const fs::path out = dir_ / mode;
         std::string err;
-        ASSERT_EQ(Dorado("odometry " + Dataset() + " --method " + mode + " --out " + out.string(),
-                         &err),
-                  0)
+        ASSERT_EQ(
+            Dorado("odometry " + Dataset() + " --method " + mode + " --out " + out.string(), &err),
+            0)
             << err;
         const auto trajectory = dorado::io::ReadTum((out / "trajectory.tum").string());
         const auto &last = trajectory[trajectory.size() - 1];

@@ -1,4 +1,5 @@
-// EgoVelocityEstimator against synthetic scenes with known truth (see dorado/testing/doppler_scan.hpp).
+// EgoVelocityEstimator against synthetic scenes with known truth (see
+// dorado/testing/doppler_scan.hpp).
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>

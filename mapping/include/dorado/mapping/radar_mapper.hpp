@@ -107,7 +107,8 @@ using PointMask = Eigen::Array<bool, Eigen::Dynamic, 1>;
 
 class RadarMapper {
   public:
-    /// The geometry (half wheelbase, model noise) is used by the window smoother's kinematic factor.
+    /// The geometry (half wheelbase, model noise) is used by the window smoother's kinematic
+    /// factor.
     RadarMapper(const MapperConfig &config, const Extrinsics &extrinsics,
                 const VehicleGeometry &geometry = VehicleGeometry{});
     ~RadarMapper();
@@ -117,9 +118,9 @@ class RadarMapper {
     /// Registers one scan (radar frame). dt_s is the time since the previous registered scan (the
     /// interval over which the Doppler residuals compare the pose's velocity). With static_mask,
     /// only points flagged true are registered, used as Doppler residuals and added to the map.
-    /// gyro_base_radps (the interval's mean gyro rate in the base frame) feeds the window smoother's
-    /// gyro factor; other refinements ignore it.
-    /// Throws std::invalid_argument on a mask of the wrong size or a non-finite dt.
+    /// gyro_base_radps (the interval's mean gyro rate in the base frame) feeds the window
+    /// smoother's gyro factor; other refinements ignore it. Throws std::invalid_argument on a mask
+    /// of the wrong size or a non-finite dt.
     RegistrationResult Register(const RadarScan &scan_radar, const MotionPrior &prior, double dt_s,
                                 const PointMask *static_mask = nullptr,
                                 const Eigen::Vector3d *gyro_base_radps = nullptr);
