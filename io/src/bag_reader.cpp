@@ -11,6 +11,7 @@
 #include <map>
 #include <utility>
 
+#include "dorado/io/ros1_cloud_view.hpp"
 #include "readers.hpp"
 
 namespace dorado::io {
@@ -27,16 +28,7 @@ int64_t StampOf(const std_msgs::Header &header, const rosbag::MessageInstance &m
 }
 
 RadarScan DecodeCloud2(const sensor_msgs::PointCloud2 &msg, const FieldMap &map) {
-    CloudBufferView view;
-    view.height = msg.height;
-    view.width = msg.width;
-    view.point_step = msg.point_step;
-    view.row_step = msg.row_step;
-    view.is_bigendian = msg.is_bigendian;
-    view.data = msg.data.data();
-    view.data_size = msg.data.size();
-    for (const auto &f : msg.fields) view.fields.push_back({f.name, f.offset, f.datatype, f.count});
-    return DecodePointCloud(view, map);
+    return DecodePointCloud(ViewOf(msg), map);
 }
 
 /// sensor_msgs/PointCloud (e.g. NTU4DRadLM): xyz in points, everything else in named channels.

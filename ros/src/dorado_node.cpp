@@ -195,7 +195,7 @@ void DoradoNode::Handle(const Pending &pending) {
 
 bool DoradoNode::Decode(const sensor_msgs::PointCloud2 &msg, RadarScan &scan) {
     try {
-        scan = io::DecodePointCloud(ViewOf(msg), settings_.dataset.fields);
+        scan = io::DecodePointCloud(io::ViewOf(msg), settings_.dataset.fields);
         return true;
     } catch (const io::DecodeError &e) {
         // One clear error per cause (a wrong field map fails every message the same way).
@@ -205,7 +205,7 @@ bool DoradoNode::Decode(const sensor_msgs::PointCloud2 &msg, RadarScan &scan) {
                 "dorado_ros: topic %s: %s; its fields: %s. Every scan like it is dropped "
                 "(counted, summarised); fix `fields` in the dataset YAML (%s)",
                 settings_.input_topic.c_str(), e.what(),
-                io::DescribeFields(ViewOf(msg).fields).c_str(),
+                io::DescribeFields(io::ViewOf(msg).fields).c_str(),
                 settings_.dataset.config_path.empty() ? "parameter config"
                                                       : settings_.dataset.config_path.c_str());
         return false;

@@ -6,19 +6,6 @@
 
 namespace dorado::ros_node {
 
-io::CloudBufferView ViewOf(const sensor_msgs::PointCloud2 &msg) {
-    io::CloudBufferView view;
-    view.height = msg.height;
-    view.width = msg.width;
-    view.point_step = msg.point_step;
-    view.row_step = msg.row_step;
-    view.is_bigendian = msg.is_bigendian;
-    view.data = msg.data.data();
-    view.data_size = msg.data.size();
-    for (const auto &f : msg.fields) view.fields.push_back({f.name, f.offset, f.datatype, f.count});
-    return view;
-}
-
 sensor_msgs::PointCloud2 MakeCloud(const std_msgs::Header &header, const Eigen::Matrix3Xd &points,
                                    const Eigen::VectorXd *doppler, const Eigen::VectorXd *power) {
     sensor_msgs::PointCloud2 cloud;

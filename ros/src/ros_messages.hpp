@@ -9,12 +9,10 @@
 
 #include "dorado/core/radar_scan.hpp"
 #include "dorado/io/pointcloud_decoder.hpp"
+#include "dorado/io/ros1_cloud_view.hpp"
 #include "dorado/odometry/kinematic_model.hpp"
 
 namespace dorado::ros_node {
-
-/// The message's layout and bytes as the decoder's view (valid while msg lives).
-[[nodiscard]] io::CloudBufferView ViewOf(const sensor_msgs::PointCloud2 &msg);
 
 /// A PointCloud2 of the given points (float32 x, y, z, and doppler, power when given).
 [[nodiscard]] sensor_msgs::PointCloud2 MakeCloud(const std_msgs::Header &header,
