@@ -23,10 +23,9 @@ Association Associate(const Eigen::Matrix3Xd &source_base, const Eigen::Isometry
                       const LocalMap &local_map, const MapperConfig &config, double threshold_m,
                       int max_matches) {
     LocalMap::Impl &map = local_map.impl();
-    map.EnsureSearch();
     map.SetCovarianceModel(config.covariance_neighbours, config.plane_flatness);
     Association out;
-    if (map.points_world.empty() || source_base.cols() == 0) return out;
+    if (map.point_count == 0 || source_base.cols() == 0) return out;
 
     // Every source point is tested (the counts and the observability need them all); the residuals
     // handed to Ceres are then thinned evenly.
@@ -36,7 +35,7 @@ Association Associate(const Eigen::Matrix3Xd &source_base, const Eigen::Isometry
     double sum_sq = 0.0;
     for (Eigen::Index i = 0; i < source_base.cols(); ++i) {
         const Eigen::Vector3d p_world = T_world_base * source_base.col(i);
-        const LocalMap::Neighbour nn = local_map.Nearest(p_world);
+        const LocalMap::Neighbour nn = map.Nearest(p_world, threshold_m);
         if (nn.index < 0 || nn.distance_squared > threshold_sq) continue;
         found.emplace_back(i, nn.index);
         sum_sq += nn.distance_squared;

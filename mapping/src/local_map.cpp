@@ -1,7 +1,9 @@
 #include "dorado/mapping/local_map.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -9,12 +11,29 @@
 
 namespace dorado::mapping {
 
+namespace {
+
+// Distance from a query at fraction f in [0, 1) of its voxel (along one axis) to the voxel d steps
+// away, in voxel units.
+double Gap(int64_t d, double f) {
+    if (d == 0) return 0.0;
+    return d > 0 ? static_cast<double>(d) - f : static_cast<double>(-d) - 1.0 + f;
+}
+
+// 0, -1, 1, -2, 2, ...: the query's own voxel first, so the best distance prunes early.
+int64_t Offset(int64_t n) {
+    return (n % 2 == 1) ? -(n + 1) / 2 : n / 2;
+}
+
+}  // namespace
+
 void LocalMapConfig::Validate() const {
     auto fail = [](const std::string &key, const std::string &what) {
         throw std::invalid_argument("mapper config: map." + key + " " + what);
     };
     if (!std::isfinite(voxel_size_m) || voxel_size_m <= 0.0) fail("voxel_size_m", "must be > 0");
-    if (max_points_per_voxel < 1) fail("max_points_per_voxel", "must be >= 1");
+    if (max_points_per_voxel < 1 || max_points_per_voxel > 1000)
+        fail("max_points_per_voxel", "must be in [1, 1000]");
     if (!(max_distance_m > 0.0)) fail("max_distance_m", "must be > 0");
 }
 
@@ -24,45 +43,189 @@ VoxelKey LocalMap::Impl::KeyOf(const Eigen::Vector3d &p) const {
             static_cast<int64_t>(std::floor(s.z()))};
 }
 
-void LocalMap::Impl::EnsureSearch() {
-    if (!dirty) return;
-    origin_world = last_position_world.array().round();
-    points_world.clear();
-    points_world.reserve(point_count);
-    cloud->clear();
-    cloud->reserve(point_count);
-    for (const auto &[key, points] : voxels) {
-        for (const auto &p : points) {
-            points_world.push_back(p);
-            const Eigen::Vector3f local = (p - origin_world).cast<float>();
-            cloud->push_back(pcl::PointXYZ(local.x(), local.y(), local.z()));
+bool LocalMap::Impl::Insert(const Eigen::Vector3d &p) {
+    const int32_t capacity = config.max_points_per_voxel;
+    const VoxelKey key = KeyOf(p);
+    auto [it, created] = voxels.try_emplace(key);
+    Voxel &voxel = it.value();
+    if (created) {
+        if (!free_blocks.empty()) {
+            voxel.first = free_blocks.back();
+            free_blocks.pop_back();
+        } else {
+            voxel.first = static_cast<int32_t>(points_world.size());
+            const std::size_t size = points_world.size() + static_cast<std::size_t>(capacity);
+            points_world.resize(size, Eigen::Vector3d::Zero());
+            covariances.resize(size, Eigen::Matrix3d::Identity());
+            normals.resize(size, Eigen::Vector3d::Zero());
+            fitted_at.resize(size, 0);
         }
     }
-    if (!cloud->empty()) tree->setInputCloud(cloud);
-    covariances.assign(points_world.size(), Eigen::Matrix3d::Identity());
-    normals.assign(points_world.size(), Eigen::Vector3d::UnitZ());
-    covariance_ready.assign(points_world.size(), 0);
-    dirty = false;
+    if (voxel.count >= capacity) return false;
+    const int32_t slot = voxel.first + voxel.count++;
+    points_world[slot] = p;
+    fitted_at[slot] = 0;
+    ++point_count;
+    MarkChanged(key);
+    return true;
+}
+
+namespace {
+
+int64_t FloorDiv(int64_t a, int64_t b) {
+    return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+
+VoxelKey BlockOf(const VoxelKey &voxel) {
+    return {FloorDiv(voxel.x, kBlockVoxels), FloorDiv(voxel.y, kBlockVoxels),
+            FloorDiv(voxel.z, kBlockVoxels)};
+}
+
+}  // namespace
+
+void LocalMap::Impl::MarkChanged(const VoxelKey &key) {
+    blocks[BlockOf(key)] = update_stamp;
+}
+
+bool LocalMap::Impl::ShapeIsCurrent(int32_t i) const {
+    const uint32_t fitted = fitted_at[i];
+    if (fitted == 0) return false;
+    const VoxelKey key = KeyOf(points_world[i]);
+    const VoxelKey lo = BlockOf({key.x - kCovarianceRings, key.y - kCovarianceRings,
+                                 key.z - kCovarianceRings});
+    const VoxelKey hi = BlockOf({key.x + kCovarianceRings, key.y + kCovarianceRings,
+                                 key.z + kCovarianceRings});
+    for (int64_t bx = lo.x; bx <= hi.x; ++bx)
+        for (int64_t by = lo.y; by <= hi.y; ++by)
+            for (int64_t bz = lo.z; bz <= hi.z; ++bz) {
+                const auto it = blocks.find({bx, by, bz});
+                if (it != blocks.end() && it->second > fitted) return false;
+            }
+    return true;
+}
+
+void LocalMap::Impl::Crop(const Eigen::Vector3d &position_world) {
+    const double max_d2 = config.max_distance_m * config.max_distance_m;
+    for (auto it = voxels.begin(); it != voxels.end();) {
+        if ((points_world[it->second.first] - position_world).squaredNorm() > max_d2) {
+            point_count -= static_cast<std::size_t>(it->second.count);
+            free_blocks.push_back(it->second.first);
+            MarkChanged(it->first);
+            it = voxels.erase(it);
+        } else {
+            ++it;
+        }
+    }
+    // Change stamps of blocks wholly beyond the crop radius are no longer needed (a voxel kept
+    // there, whose first point is inside, is at most one voxel diagonal out).
+    const double block_m = kBlockVoxels * config.voxel_size_m;
+    const double reach = config.max_distance_m + std::sqrt(3.0) * (block_m + config.voxel_size_m);
+    for (auto it = blocks.begin(); it != blocks.end();) {
+        const Eigen::Vector3d centre =
+            (Eigen::Vector3d(static_cast<double>(it->first.x), static_cast<double>(it->first.y),
+                             static_cast<double>(it->first.z)) +
+             Eigen::Vector3d::Constant(0.5)) *
+            block_m;
+        it = (centre - position_world).norm() > reach ? blocks.erase(it) : std::next(it);
+    }
+}
+
+LocalMap::Neighbour LocalMap::Impl::Nearest(const Eigen::Vector3d &query_world,
+                                            double max_distance_m) const {
+    Neighbour best;
+    if (!(max_distance_m > 0.0) || !std::isfinite(max_distance_m)) return best;
+    const double v = config.voxel_size_m;
+    const Eigen::Vector3d s = query_world / v;
+    const Eigen::Vector3d floor_s = s.array().floor();
+    const Eigen::Vector3d f = s - floor_s;
+    const VoxelKey key{static_cast<int64_t>(floor_s.x()), static_cast<int64_t>(floor_s.y()),
+                       static_cast<int64_t>(floor_s.z())};
+    // Squared distances in voxel units; a voxel is visited only when its box is closer than the
+    // best point so far, so the answer is exact within max_distance_m.
+    const double reach = std::min(max_distance_m / v, static_cast<double>(kMaxSearchRings));
+    double best_d2 = reach * reach;
+    const auto rings = static_cast<int64_t>(std::ceil(reach));
+    for (int64_t nx = 0; nx <= 2 * rings; ++nx) {
+        const int64_t dx = Offset(nx);
+        const double gx = Gap(dx, f.x());
+        if (gx * gx >= best_d2) continue;
+        for (int64_t ny = 0; ny <= 2 * rings; ++ny) {
+            const int64_t dy = Offset(ny);
+            const double gy = Gap(dy, f.y());
+            if (gx * gx + gy * gy >= best_d2) continue;
+            for (int64_t nz = 0; nz <= 2 * rings; ++nz) {
+                const int64_t dz = Offset(nz);
+                const double gz = Gap(dz, f.z());
+                if (gx * gx + gy * gy + gz * gz >= best_d2) continue;
+                const auto it = voxels.find({key.x + dx, key.y + dy, key.z + dz});
+                if (it == voxels.end()) continue;
+                const Voxel &voxel = it->second;
+                for (int32_t slot = voxel.first; slot < voxel.first + voxel.count; ++slot) {
+                    const double d2 = (points_world[slot] - query_world).squaredNorm() / (v * v);
+                    if (d2 < best_d2) {
+                        best_d2 = d2;
+                        best.index = slot;
+                    }
+                }
+            }
+        }
+    }
+    if (best.index >= 0)
+        best.distance_squared = (points_world[best.index] - query_world).squaredNorm();
+    return best;
+}
+
+void LocalMap::Impl::NearestInNeighbourhood(int32_t i, int k) const {
+    const Eigen::Vector3d &p = points_world[i];
+    const VoxelKey key = KeyOf(p);
+    scratch.clear();
+    for (int64_t dx = -kCovarianceRings; dx <= kCovarianceRings; ++dx)
+        for (int64_t dy = -kCovarianceRings; dy <= kCovarianceRings; ++dy)
+            for (int64_t dz = -kCovarianceRings; dz <= kCovarianceRings; ++dz) {
+                const auto it = voxels.find({key.x + dx, key.y + dy, key.z + dz});
+                if (it == voxels.end()) continue;
+                const Voxel &v = it->second;
+                for (int32_t s = v.first; s < v.first + v.count; ++s)
+                    scratch.emplace_back((points_world[s] - p).squaredNorm(), s);
+            }
+    const auto keep = std::min<std::size_t>(scratch.size(), static_cast<std::size_t>(k));
+    std::partial_sort(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(keep),
+                      scratch.end());
+    scratch.resize(keep);
+}
+
+void LocalMap::Impl::EnsureCloud() {
+    if (!cloud_dirty) return;
+    origin_world = last_position_world.array().round();
+    cloud->resize(points_world.size());
+    for (std::size_t s = 0; s < points_world.size(); ++s) {
+        const Eigen::Vector3f local = (points_world[s] - origin_world).cast<float>();
+        (*cloud)[s] = pcl::PointXYZ(local.x(), local.y(), local.z());
+    }
+    cloud_dirty = false;
 }
 
 void LocalMap::Impl::SetCovarianceModel(int neighbours, double flatness) {
     if (neighbours == covariance_neighbours && flatness == plane_flatness) return;
     covariance_neighbours = neighbours;
     plane_flatness = flatness;
-    std::fill(covariance_ready.begin(), covariance_ready.end(), 0);
+    std::fill(fitted_at.begin(), fitted_at.end(), 0);
 }
 
-const Eigen::Matrix3d &LocalMap::Impl::Covariance(int i) {
-    if (covariance_ready[i]) return covariances[i];
-    pcl::Indices indices;
-    std::vector<float> distances;
-    const int k = std::min<int>(covariance_neighbours, static_cast<int>(points_world.size()));
-    tree->nearestKSearch((*cloud)[i], k, indices, distances);
+const Eigen::Matrix3d &LocalMap::Impl::Covariance(int32_t i) {
+    if (ShapeIsCurrent(i)) return covariances[i];
+    NearestInNeighbourhood(i, covariance_neighbours);
+    fitted_at[i] = std::max<uint32_t>(update_stamp, 1);
+    if (scratch.size() < 3) {  // no surface around it: round, and no direction to observe
+        covariances[i] = Eigen::Matrix3d::Identity();
+        normals[i] = Eigen::Vector3d::Zero();
+        return covariances[i];
+    }
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (const auto j : indices) mean += points_world[j];
-    mean /= static_cast<double>(indices.size());
+    for (const auto &[d2, j] : scratch) mean += points_world[j];
+    mean /= static_cast<double>(scratch.size());
     Eigen::Matrix3d sample = Eigen::Matrix3d::Zero();
-    for (const auto j : indices) {
+    for (const auto &[d2, j] : scratch) {
         const Eigen::Vector3d d = points_world[j] - mean;
         sample += d * d.transpose();
     }
@@ -70,18 +233,16 @@ const Eigen::Matrix3d &LocalMap::Impl::Covariance(int i) {
     const Eigen::Matrix3d V = eig.eigenvectors();  // columns sorted by increasing eigenvalue
     covariances[i] = V * Eigen::Vector3d(plane_flatness, 1.0, 1.0).asDiagonal() * V.transpose();
     normals[i] = V.col(0);
-    covariance_ready[i] = 1;
     return covariances[i];
 }
 
-const Eigen::Vector3d &LocalMap::Impl::Normal(int i) {
+const Eigen::Vector3d &LocalMap::Impl::Normal(int32_t i) {
     Covariance(i);
     return normals[i];
 }
 
 void LocalMap::Impl::ComputeAllCovariances() {
-    EnsureSearch();
-    for (int i = 0; i < static_cast<int>(points_world.size()); ++i) Covariance(i);
+    ForEachSlot([this](int32_t s) { Covariance(s); });
 }
 
 LocalMap::LocalMap(const LocalMapConfig &config) : impl_(std::make_unique<Impl>()) {
@@ -94,58 +255,44 @@ LocalMap &LocalMap::operator=(LocalMap &&) noexcept = default;
 
 void LocalMap::Update(const Eigen::Matrix3Xd &points_world, const Eigen::Vector3d &position_world) {
     Impl &m = *impl_;
+    ++m.update_stamp;
     for (Eigen::Index i = 0; i < points_world.cols(); ++i) {
         const Eigen::Vector3d p = points_world.col(i);
-        if (!p.allFinite()) continue;
-        auto &cell = m.voxels[m.KeyOf(p)];
-        if (static_cast<int>(cell.size()) >= m.config.max_points_per_voxel) continue;
-        cell.push_back(p);
-        ++m.point_count;
+        if (p.allFinite()) m.Insert(p);
     }
     m.last_position_world = position_world;
-    m.dirty = true;
+    m.cloud_dirty = true;
     // An unbounded map (the whole-run output map) is never cropped: the crop walks every voxel.
-    if (!std::isfinite(m.config.max_distance_m)) return;
-    // Crop: a voxel is kept while its first point is within max_distance_m of the vehicle.
-    const double max_d2 = m.config.max_distance_m * m.config.max_distance_m;
-    for (auto it = m.voxels.begin(); it != m.voxels.end();) {
-        if ((it->second.front() - position_world).squaredNorm() > max_d2) {
-            m.point_count -= it->second.size();
-            it = m.voxels.erase(it);
-        } else {
-            ++it;
-        }
-    }
+    if (std::isfinite(m.config.max_distance_m)) m.Crop(position_world);
 }
 
 Eigen::Matrix3Xd LocalMap::Points() const {
     Eigen::Matrix3Xd out(3, static_cast<Eigen::Index>(impl_->point_count));
     Eigen::Index c = 0;
-    for (const auto &[key, points] : impl_->voxels)
-        for (const auto &p : points) out.col(c++) = p;
+    impl_->ForEachSlot([&](int32_t s) { out.col(c++) = impl_->points_world[s]; });
     return out;
 }
 
 void LocalMap::BuildIndex() const {
-    impl_->EnsureSearch();
+    impl_->EnsureCloud();
 }
 
 std::size_t LocalMap::size() const {
     return impl_->point_count;
 }
+std::size_t LocalMap::voxel_count() const {
+    return impl_->voxels.size();
+}
+std::size_t LocalMap::capacity() const {
+    return impl_->points_world.size();
+}
 const LocalMapConfig &LocalMap::config() const {
     return impl_->config;
 }
 
-LocalMap::Neighbour LocalMap::Nearest(const Eigen::Vector3d &query_world) const {
-    Impl &m = *impl_;
-    m.EnsureSearch();
-    if (m.cloud->empty()) return {};
-    const Eigen::Vector3f q = (query_world - m.origin_world).cast<float>();
-    pcl::Indices indices(1);
-    std::vector<float> d2(1);
-    m.tree->nearestKSearch(pcl::PointXYZ(q.x(), q.y(), q.z()), 1, indices, d2);
-    return {indices[0], (m.points_world[indices[0]] - query_world).squaredNorm()};
+LocalMap::Neighbour LocalMap::Nearest(const Eigen::Vector3d &query_world,
+                                      double max_distance_m) const {
+    return impl_->Nearest(query_world, max_distance_m);
 }
 
 }  // namespace dorado::mapping

@@ -2,6 +2,11 @@
 #include <pcl/registration/gicp.h>
 #include <pcl/registration/icp.h>
 
+#include <pcl/search/kdtree.h>
+
+#include <limits>
+#include <memory>
+
 #include "local_map_impl.hpp"
 #include "registration.hpp"
 
@@ -11,6 +16,47 @@ namespace {
 
 using CloudXYZ = pcl::PointCloud<pcl::PointXYZ>;
 using CloudNormal = pcl::PointCloud<pcl::PointNormal>;
+
+// PCL's registration finds its correspondences through a pcl::search::KdTree. This one answers
+// from the local map's voxel hash instead (nearest point within the correspondence threshold,
+// exact), so nothing is built per keyframe and no query enters FLANN's OpenMP region. Points are
+// in the map's local frame (float, origin at the last update); indices are the map's slots.
+template <typename PointT>
+class VoxelHashSearch : public pcl::search::KdTree<PointT> {
+  public:
+    using Base = pcl::search::KdTree<PointT>;
+    using Ptr = typename Base::Ptr;
+    using Base::nearestKSearch;
+
+    VoxelHashSearch(const LocalMap::Impl &map, double max_distance_m)
+        : map_(map), max_distance_m_(max_distance_m) {}
+
+    // The target cloud is the map's copy: nothing to index.
+    void setInputCloud(const typename Base::PointCloudConstPtr &cloud,
+                       const pcl::IndicesConstPtr & /*indices*/ = pcl::IndicesConstPtr()) override {
+        this->input_ = cloud;
+    }
+
+    int nearestKSearch(const PointT &point, int k, pcl::Indices &k_indices,
+                       std::vector<float> &k_sqr_distances) const override {
+        // PCL's correspondence estimation asks for k = 1 and compares the distance with its
+        // threshold, so "none" is reported as an infinite distance.
+        k_indices.assign(1, 0);
+        k_sqr_distances.assign(1, std::numeric_limits<float>::infinity());
+        if (k < 1) return 0;
+        const Eigen::Vector3d query_world =
+            point.getVector3fMap().template cast<double>() + map_.origin_world;
+        const LocalMap::Neighbour nn = map_.Nearest(query_world, max_distance_m_);
+        if (nn.index < 0) return 0;
+        k_indices[0] = nn.index;
+        k_sqr_distances[0] = static_cast<float>(nn.distance_squared);
+        return 1;
+    }
+
+  private:
+    const LocalMap::Impl &map_;
+    double max_distance_m_;
+};
 
 // T_local_world: PCL works in float, in the map's local frame (origin at the last map update).
 Eigen::Isometry3d LocalFromWorld(const LocalMap::Impl &map) {
@@ -47,8 +93,7 @@ typename pcl::PointCloud<PointT>::Ptr ToCloud(const Eigen::Matrix3Xd &points_bas
 }
 
 // The map with its normals, for point-to-plane ICP (normals from the local covariances).
-std::pair<CloudNormal::Ptr, pcl::search::KdTree<pcl::PointNormal>::Ptr> MapWithNormals(
-    LocalMap::Impl &map) {
+CloudNormal::Ptr MapWithNormals(LocalMap::Impl &map) {
     map.ComputeAllCovariances();
     CloudNormal::Ptr cloud(new CloudNormal);
     cloud->resize(map.cloud->size());
@@ -57,9 +102,7 @@ std::pair<CloudNormal::Ptr, pcl::search::KdTree<pcl::PointNormal>::Ptr> MapWithN
         p.getVector3fMap() = (*map.cloud)[i].getVector3fMap();
         p.getNormalVector3fMap() = map.normals[i].cast<float>();
     }
-    pcl::search::KdTree<pcl::PointNormal>::Ptr tree(new pcl::search::KdTree<pcl::PointNormal>);
-    tree->setInputCloud(cloud);
-    return {cloud, tree};
+    return cloud;
 }
 
 }  // namespace
@@ -68,7 +111,7 @@ PclAlignment AlignWithPcl(const Eigen::Matrix3Xd &source_base,
                           const Eigen::Isometry3d &T_world_base_guess, const LocalMap &local_map,
                           const MapperConfig &config, double threshold_m) {
     LocalMap::Impl &map = local_map.impl();
-    map.EnsureSearch();
+    map.EnsureCloud();
     map.SetCovarianceModel(config.covariance_neighbours, config.plane_flatness);
     const Eigen::Isometry3d T_local_world = LocalFromWorld(map);
     const Eigen::Matrix4f guess = (T_local_world * T_world_base_guess).matrix().cast<float>();
@@ -81,7 +124,8 @@ PclAlignment AlignWithPcl(const Eigen::Matrix3Xd &source_base,
             SetCommonOptions(icp, config, threshold_m);
             icp.setInputSource(ToCloud<pcl::PointXYZ>(source_base));
             icp.setInputTarget(map.cloud);
-            icp.setSearchMethodTarget(map.tree, true);  // the map's tree is already built
+            icp.setSearchMethodTarget(
+                std::make_shared<VoxelHashSearch<pcl::PointXYZ>>(map, threshold_m), true);
             CloudXYZ aligned;
             icp.align(aligned, guess);
             converged = icp.hasConverged();
@@ -89,12 +133,12 @@ PclAlignment AlignWithPcl(const Eigen::Matrix3Xd &source_base,
             break;
         }
         case RegistrationMethod::kPointToPlane: {
-            auto [target, tree] = MapWithNormals(map);
             pcl::IterativeClosestPointWithNormals<pcl::PointNormal, pcl::PointNormal> icp;
             SetCommonOptions(icp, config, threshold_m);
             icp.setInputSource(ToCloud<pcl::PointNormal>(source_base));
-            icp.setInputTarget(target);
-            icp.setSearchMethodTarget(tree, true);
+            icp.setInputTarget(MapWithNormals(map));
+            icp.setSearchMethodTarget(
+                std::make_shared<VoxelHashSearch<pcl::PointNormal>>(map, threshold_m), true);
             CloudNormal aligned;
             icp.align(aligned, guess);
             converged = icp.hasConverged();
@@ -112,7 +156,8 @@ PclAlignment AlignWithPcl(const Eigen::Matrix3Xd &source_base,
             gicp.setMaximumOptimizerIterations(10);
             gicp.setInputSource(ToCloud<pcl::PointXYZ>(source_base));
             gicp.setInputTarget(map.cloud);
-            gicp.setSearchMethodTarget(map.tree, true);
+            gicp.setSearchMethodTarget(
+                std::make_shared<VoxelHashSearch<pcl::PointXYZ>>(map, threshold_m), true);
             gicp.setTargetCovariances(covariances);
             CloudXYZ aligned;
             gicp.align(aligned, guess);

@@ -2,8 +2,9 @@
 /// @file local_map.hpp
 /// The local map the scans are registered against: points in the world frame, kept in a voxel
 /// hash (at most a few points per voxel, kiss-icp style) and cropped to a radius around the
-/// vehicle. The search structures (PCL kd-tree, local covariances) are built lazily, only when
-/// registration asks for them after an update.
+/// vehicle. The hash is updated in place (no k-d tree to rebuild) and is also the search
+/// structure: nearest point within a distance, and the local shapes of the map's neighbourhoods,
+/// cached until the map changes near them. Its memory is bounded by the crop radius.
 
 #include <Eigen/Core>
 #include <cstddef>
@@ -32,24 +33,31 @@ class LocalMap {
     /// than max_distance_m from position_world (the vehicle).
     void Update(const Eigen::Matrix3Xd &points_world, const Eigen::Vector3d &position_world);
 
-    /// Builds the search structures now (otherwise on the first query after an Update).
+    /// Builds PCL's float copy of the map now (otherwise on the first registration after an
+    /// Update).
     void BuildIndex() const;
 
     /// Every map point, in the world frame.
     [[nodiscard]] Eigen::Matrix3Xd Points() const;
     [[nodiscard]] std::size_t size() const;
     [[nodiscard]] bool empty() const { return size() == 0; }
+    /// Occupied voxels, and point slots allocated (live points plus free room in the voxels and
+    /// freed blocks kept for reuse): the map's memory is proportional to the latter.
+    [[nodiscard]] std::size_t voxel_count() const;
+    [[nodiscard]] std::size_t capacity() const;
     [[nodiscard]] const LocalMapConfig &config() const;
 
-    /// Nearest map point to query_world: its index into the current search structure and the
-    /// squared distance; index -1 when the map is empty.
+    /// Nearest map point to query_world closer than max_distance_m (exact; the search reaches at
+    /// most 16 voxels): its slot index, stable while its voxel stays in the map, and the squared
+    /// distance; index -1 when there is none.
     struct Neighbour {
         int index = -1;
         double distance_squared = 0.0;
     };
-    [[nodiscard]] Neighbour Nearest(const Eigen::Vector3d &query_world) const;
+    [[nodiscard]] Neighbour Nearest(const Eigen::Vector3d &query_world,
+                                      double max_distance_m) const;
 
-    /// Implementation (PCL search structures); defined in mapping/src/local_map_impl.hpp.
+    /// Implementation (voxel hash, PCL's float copy); defined in mapping/src/local_map_impl.hpp.
     struct Impl;
     [[nodiscard]] Impl &impl() const { return *impl_; }
 
