@@ -15,13 +15,13 @@ namespace {
 
 // Distance from a query at fraction f in [0, 1) of its voxel (along one axis) to the voxel d steps
 // away, in voxel units.
-double Gap(int64_t d, double f) {
+double Gap(int32_t d, double f) {
     if (d == 0) return 0.0;
     return d > 0 ? static_cast<double>(d) - f : static_cast<double>(-d) - 1.0 + f;
 }
 
 // 0, -1, 1, -2, 2, ...: the query's own voxel first, so the best distance prunes early.
-int64_t Offset(int64_t n) {
+int32_t Offset(int32_t n) {
     return (n % 2 == 1) ? -(n + 1) / 2 : n / 2;
 }
 
@@ -37,10 +37,19 @@ void LocalMapConfig::Validate() const {
     if (!(max_distance_m > 0.0)) fail("max_distance_m", "must be > 0");
 }
 
+namespace {
+
+// Voxel index of a coordinate in voxel units, clamped so that offsets of a few rings stay in range.
+int32_t Index(double s) {
+    constexpr double kLimit = 1 << 30;
+    return static_cast<int32_t>(std::clamp(std::floor(s), -kLimit, kLimit));
+}
+
+}  // namespace
+
 VoxelKey LocalMap::Impl::KeyOf(const Eigen::Vector3d &p) const {
     const Eigen::Vector3d s = p / config.voxel_size_m;
-    return {static_cast<int64_t>(std::floor(s.x())), static_cast<int64_t>(std::floor(s.y())),
-            static_cast<int64_t>(std::floor(s.z()))};
+    return {Index(s.x()), Index(s.y()), Index(s.z())};
 }
 
 bool LocalMap::Impl::Insert(const Eigen::Vector3d &p) {
@@ -56,23 +65,29 @@ bool LocalMap::Impl::Insert(const Eigen::Vector3d &p) {
             voxel.first = static_cast<int32_t>(points_world.size());
             const std::size_t size = points_world.size() + static_cast<std::size_t>(capacity);
             points_world.resize(size, Eigen::Vector3d::Zero());
-            covariances.resize(size, Eigen::Matrix3d::Identity());
-            normals.resize(size, Eigen::Vector3d::Zero());
-            fitted_at.resize(size, 0);
+            if (shapes_used) ResizeShapes();
         }
     }
     if (voxel.count >= capacity) return false;
     const int32_t slot = voxel.first + voxel.count++;
     points_world[slot] = p;
-    fitted_at[slot] = 0;
     ++point_count;
-    MarkChanged(key);
+    if (shapes_used) {
+        fitted_at[slot] = 0;
+        MarkChanged(key);
+    }
     return true;
+}
+
+void LocalMap::Impl::ResizeShapes() {
+    covariances.resize(points_world.size(), Eigen::Matrix3d::Identity());
+    normals.resize(points_world.size(), Eigen::Vector3d::Zero());
+    fitted_at.resize(points_world.size(), 0);
 }
 
 namespace {
 
-int64_t FloorDiv(int64_t a, int64_t b) {
+int32_t FloorDiv(int32_t a, int32_t b) {
     return a >= 0 ? a / b : -((-a + b - 1) / b);
 }
 
@@ -95,9 +110,9 @@ bool LocalMap::Impl::ShapeIsCurrent(int32_t i) const {
                                  key.z - kCovarianceRings});
     const VoxelKey hi = BlockOf({key.x + kCovarianceRings, key.y + kCovarianceRings,
                                  key.z + kCovarianceRings});
-    for (int64_t bx = lo.x; bx <= hi.x; ++bx)
-        for (int64_t by = lo.y; by <= hi.y; ++by)
-            for (int64_t bz = lo.z; bz <= hi.z; ++bz) {
+    for (int32_t bx = lo.x; bx <= hi.x; ++bx)
+        for (int32_t by = lo.y; by <= hi.y; ++by)
+            for (int32_t bz = lo.z; bz <= hi.z; ++bz) {
                 const auto it = blocks.find({bx, by, bz});
                 if (it != blocks.end() && it->second > fitted) return false;
             }
@@ -110,7 +125,7 @@ void LocalMap::Impl::Crop(const Eigen::Vector3d &position_world) {
         if ((points_world[it->second.first] - position_world).squaredNorm() > max_d2) {
             point_count -= static_cast<std::size_t>(it->second.count);
             free_blocks.push_back(it->second.first);
-            MarkChanged(it->first);
+            if (shapes_used) MarkChanged(it->first);
             it = voxels.erase(it);
         } else {
             ++it;
@@ -136,32 +151,32 @@ LocalMap::Neighbour LocalMap::Impl::Nearest(const Eigen::Vector3d &query_world,
     if (!(max_distance_m > 0.0) || !std::isfinite(max_distance_m)) return best;
     const double v = config.voxel_size_m;
     const Eigen::Vector3d s = query_world / v;
-    const Eigen::Vector3d floor_s = s.array().floor();
-    const Eigen::Vector3d f = s - floor_s;
-    const VoxelKey key{static_cast<int64_t>(floor_s.x()), static_cast<int64_t>(floor_s.y()),
-                       static_cast<int64_t>(floor_s.z())};
-    // Squared distances in voxel units; a voxel is visited only when its box is closer than the
-    // best point so far, so the answer is exact within max_distance_m.
+    const VoxelKey key{Index(s.x()), Index(s.y()), Index(s.z())};
+    const Eigen::Vector3d f = s - Eigen::Vector3d(key.x, key.y, key.z);
+    // A voxel is visited only when its box is closer than the best point so far (squared
+    // distances in metres), so the answer is exact within max_distance_m.
     const double reach = std::min(max_distance_m / v, static_cast<double>(kMaxSearchRings));
-    double best_d2 = reach * reach;
-    const auto rings = static_cast<int64_t>(std::ceil(reach));
-    for (int64_t nx = 0; nx <= 2 * rings; ++nx) {
-        const int64_t dx = Offset(nx);
-        const double gx = Gap(dx, f.x());
-        if (gx * gx >= best_d2) continue;
-        for (int64_t ny = 0; ny <= 2 * rings; ++ny) {
-            const int64_t dy = Offset(ny);
-            const double gy = Gap(dy, f.y());
-            if (gx * gx + gy * gy >= best_d2) continue;
-            for (int64_t nz = 0; nz <= 2 * rings; ++nz) {
-                const int64_t dz = Offset(nz);
-                const double gz = Gap(dz, f.z());
-                if (gx * gx + gy * gy + gz * gz >= best_d2) continue;
+    double best_d2 = reach * reach * v * v;
+    const auto rings = static_cast<int32_t>(std::ceil(reach));
+    for (int32_t nx = 0; nx <= 2 * rings; ++nx) {
+        const int32_t dx = Offset(nx);
+        const double gx = Gap(dx, f.x()) * v;
+        const double gx2 = gx * gx;
+        if (gx2 >= best_d2) continue;
+        for (int32_t ny = 0; ny <= 2 * rings; ++ny) {
+            const int32_t dy = Offset(ny);
+            const double gy = Gap(dy, f.y()) * v;
+            const double gxy2 = gx2 + gy * gy;
+            if (gxy2 >= best_d2) continue;
+            for (int32_t nz = 0; nz <= 2 * rings; ++nz) {
+                const int32_t dz = Offset(nz);
+                const double gz = Gap(dz, f.z()) * v;
+                if (gxy2 + gz * gz >= best_d2) continue;
                 const auto it = voxels.find({key.x + dx, key.y + dy, key.z + dz});
                 if (it == voxels.end()) continue;
                 const Voxel &voxel = it->second;
                 for (int32_t slot = voxel.first; slot < voxel.first + voxel.count; ++slot) {
-                    const double d2 = (points_world[slot] - query_world).squaredNorm() / (v * v);
+                    const double d2 = (points_world[slot] - query_world).squaredNorm();
                     if (d2 < best_d2) {
                         best_d2 = d2;
                         best.index = slot;
@@ -170,8 +185,7 @@ LocalMap::Neighbour LocalMap::Impl::Nearest(const Eigen::Vector3d &query_world,
             }
         }
     }
-    if (best.index >= 0)
-        best.distance_squared = (points_world[best.index] - query_world).squaredNorm();
+    if (best.index >= 0) best.distance_squared = best_d2;
     return best;
 }
 
@@ -179,9 +193,9 @@ void LocalMap::Impl::NearestInNeighbourhood(int32_t i, int k) const {
     const Eigen::Vector3d &p = points_world[i];
     const VoxelKey key = KeyOf(p);
     scratch.clear();
-    for (int64_t dx = -kCovarianceRings; dx <= kCovarianceRings; ++dx)
-        for (int64_t dy = -kCovarianceRings; dy <= kCovarianceRings; ++dy)
-            for (int64_t dz = -kCovarianceRings; dz <= kCovarianceRings; ++dz) {
+    for (int32_t dx = -kCovarianceRings; dx <= kCovarianceRings; ++dx)
+        for (int32_t dy = -kCovarianceRings; dy <= kCovarianceRings; ++dy)
+            for (int32_t dz = -kCovarianceRings; dz <= kCovarianceRings; ++dz) {
                 const auto it = voxels.find({key.x + dx, key.y + dy, key.z + dz});
                 if (it == voxels.end()) continue;
                 const Voxel &v = it->second;
@@ -189,8 +203,8 @@ void LocalMap::Impl::NearestInNeighbourhood(int32_t i, int k) const {
                     scratch.emplace_back((points_world[s] - p).squaredNorm(), s);
             }
     const auto keep = std::min<std::size_t>(scratch.size(), static_cast<std::size_t>(k));
-    std::partial_sort(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(keep),
-                      scratch.end());
+    std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(keep),
+                     scratch.end());
     scratch.resize(keep);
 }
 
@@ -213,6 +227,10 @@ void LocalMap::Impl::SetCovarianceModel(int neighbours, double flatness) {
 }
 
 const Eigen::Matrix3d &LocalMap::Impl::Covariance(int32_t i) {
+    if (!shapes_used) {
+        shapes_used = true;
+        ResizeShapes();
+    }
     if (ShapeIsCurrent(i)) return covariances[i];
     NearestInNeighbourhood(i, covariance_neighbours);
     fitted_at[i] = std::max<uint32_t>(update_stamp, 1);
@@ -242,6 +260,10 @@ const Eigen::Vector3d &LocalMap::Impl::Normal(int32_t i) {
 }
 
 void LocalMap::Impl::ComputeAllCovariances() {
+    if (!shapes_used) {
+        shapes_used = true;
+        ResizeShapes();
+    }
     ForEachSlot([this](int32_t s) { Covariance(s); });
 }
 

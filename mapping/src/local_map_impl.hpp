@@ -22,15 +22,20 @@
 
 namespace dorado::mapping {
 
+/// 32-bit voxel indices keep the hash table small (the search is bound by its cache misses);
+/// KeyOf clamps them well inside the int32 range, so key arithmetic never overflows.
 struct VoxelKey {
-    int64_t x, y, z;
+    int32_t x, y, z;
     bool operator==(const VoxelKey &o) const { return x == o.x && y == o.y && z == o.z; }
 };
 
 struct VoxelKeyHash {
     std::size_t operator()(const VoxelKey &k) const {
-        // The spatial hash of Teschner et al. (2003), as in kiss-icp's voxel map.
-        return static_cast<std::size_t>((k.x * 73856093) ^ (k.y * 19349669) ^ (k.z * 83492791));
+        // The spatial hash of Teschner et al. (2003), as in kiss-icp's voxel map (unsigned, so
+        // the products wrap instead of overflowing).
+        return static_cast<std::size_t>((static_cast<uint32_t>(k.x) * 73856093u) ^
+                                        (static_cast<uint32_t>(k.y) * 19349669u) ^
+                                        (static_cast<uint32_t>(k.z) * 83492791u));
     }
 };
 
@@ -72,7 +77,9 @@ struct LocalMap::Impl {
 
     // Local shape of each slot's neighbourhood (unit-free, GICP-regularised), computed on demand
     // and cached until the map changes near it: `fitted_at[s]` is the update after which slot s's
-    // shape was fitted (0: never).
+    // shape was fitted (0: never). Allocated on the first request, so that a map nobody registers
+    // against (the whole-run output map) stores its points only.
+    bool shapes_used = false;
     int covariance_neighbours = 8;
     double plane_flatness = 0.1;
     std::vector<Eigen::Matrix3d> covariances;
@@ -85,6 +92,8 @@ struct LocalMap::Impl {
     bool Insert(const Eigen::Vector3d &p);
     /// Drops the voxels whose first point is farther than max_distance_m from position_world.
     void Crop(const Eigen::Vector3d &position_world);
+    /// Sizes the shape caches to the slot pool.
+    void ResizeShapes();
     /// Records that voxel `key` changed in this update (its block's stamp).
     void MarkChanged(const VoxelKey &key);
     /// Whether slot i's cached shape is still that of its neighbourhood.
@@ -95,7 +104,7 @@ struct LocalMap::Impl {
     [[nodiscard]] Neighbour Nearest(const Eigen::Vector3d &query_world,
                                     double max_distance_m) const;
     /// The k nearest map points to slot i among the voxels within kCovarianceRings (itself
-    /// included), into `scratch` as (squared distance, slot), nearest first.
+    /// included), into `scratch` as (squared distance, slot), in no particular order.
     void NearestInNeighbourhood(int32_t i, int k) const;
 
     /// Rebuilds PCL's float copy of the slot pool when the map changed since the last call.

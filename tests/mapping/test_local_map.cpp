@@ -1,0 +1,155 @@
+// The local map's voxel hash against brute force: the nearest point within a distance, the cached
+// local shapes after updates and crops, and a memory that does not grow with the drive.
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "dorado/mapping/local_map.hpp"
+#include "local_map_impl.hpp"
+
+namespace dorado::mapping {
+namespace {
+
+Eigen::Matrix3Xd RandomPoints(std::mt19937 &rng, int n, const Eigen::Vector3d &centre,
+                              double half_width) {
+    std::uniform_real_distribution<double> u(-half_width, half_width);
+    Eigen::Matrix3Xd points(3, n);
+    for (int i = 0; i < n; ++i) points.col(i) = centre + Eigen::Vector3d(u(rng), u(rng), u(rng));
+    return points;
+}
+
+// Squared distance to the nearest column, by brute force.
+double BruteNearest(const Eigen::Matrix3Xd &points, const Eigen::Vector3d &q) {
+    double best = INFINITY;
+    for (Eigen::Index i = 0; i < points.cols(); ++i)
+        best = std::min(best, (points.col(i) - q).squaredNorm());
+    return best;
+}
+
+TEST(LocalMap, NearestWithinADistanceIsExact) {
+    std::mt19937 rng(7);
+    for (const double voxel : {1.0, 0.7}) {
+        LocalMapConfig config;
+        config.voxel_size_m = voxel;
+        config.max_points_per_voxel = 3;
+        config.max_distance_m = INFINITY;
+        LocalMap map(config);
+        // Straddles the origin, so negative voxel indices are exercised too.
+        map.Update(RandomPoints(rng, 3000, Eigen::Vector3d(-3.0, 2.0, 0.5), 15.0),
+                   Eigen::Vector3d::Zero());
+        const Eigen::Matrix3Xd points = map.Points();
+        std::uniform_real_distribution<double> distance(0.2, 3.5);
+        int found = 0, missed = 0;
+        for (int k = 0; k < 3000; ++k) {
+            const Eigen::Vector3d q =
+                RandomPoints(rng, 1, Eigen::Vector3d(-3.0, 2.0, 0.5), 18.0).col(0);
+            const double d = distance(rng);
+            const double truth = BruteNearest(points, q);
+            const LocalMap::Neighbour nn = map.Nearest(q, d);
+            if (truth < d * d) {
+                ASSERT_GE(nn.index, 0) << "voxel " << voxel << " query " << q.transpose();
+                EXPECT_NEAR(nn.distance_squared, truth, 1e-12);
+                EXPECT_NEAR((map.impl().points_world[nn.index] - q).squaredNorm(), truth, 1e-12);
+                ++found;
+            } else {
+                EXPECT_EQ(nn.index, -1) << "nearest at " << std::sqrt(truth) << " > " << d;
+                ++missed;
+            }
+        }
+        EXPECT_GT(found, 500);  // both branches are really exercised
+        EXPECT_GT(missed, 500);
+    }
+    LocalMap empty;
+    EXPECT_EQ(empty.Nearest(Eigen::Vector3d::Zero(), 2.0).index, -1);
+}
+
+// The unit normal of the k nearest points whose voxels are within kCovarianceRings of p's.
+Eigen::Vector3d BruteNormal(const Eigen::Matrix3Xd &points, const Eigen::Vector3d &p, double voxel,
+                            int k) {
+    auto key = [&](const Eigen::Vector3d &x) {
+        return Eigen::Vector3d((x / voxel).array().floor());
+    };
+    std::vector<std::pair<double, Eigen::Index>> candidates;
+    for (Eigen::Index i = 0; i < points.cols(); ++i)
+        if ((key(points.col(i)) - key(p)).cwiseAbs().maxCoeff() <= kCovarianceRings)
+            candidates.emplace_back((points.col(i) - p).squaredNorm(), i);
+    std::sort(candidates.begin(), candidates.end());
+    candidates.resize(std::min<std::size_t>(candidates.size(), static_cast<std::size_t>(k)));
+    if (candidates.size() < 3) return Eigen::Vector3d::Zero();  // no surface: no normal
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const auto &[d2, i] : candidates) mean += points.col(i);
+    mean /= static_cast<double>(candidates.size());
+    Eigen::Matrix3d sample = Eigen::Matrix3d::Zero();
+    for (const auto &[d2, i] : candidates)
+        sample += (points.col(i) - mean) * (points.col(i) - mean).transpose();
+    return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(sample).eigenvectors().col(0);
+}
+
+TEST(LocalMap, CachedShapesFollowUpdatesAndCrops) {
+    std::mt19937 rng(3);
+    LocalMapConfig config;
+    config.voxel_size_m = 1.0;
+    config.max_points_per_voxel = 2;
+    config.max_distance_m = 12.0;
+    LocalMap map(config);
+    LocalMap::Impl &m = map.impl();
+    m.SetCovarianceModel(10, 0.1);
+    // A drive along x: each update adds points around the vehicle and crops behind it; the
+    // shapes are read (and cached) between updates, so stale caches would show.
+    for (int step = 0; step < 12; ++step) {
+        const Eigen::Vector3d position(1.5 * step, 0.0, 0.0);
+        map.Update(RandomPoints(rng, 400, position + Eigen::Vector3d(4.0, 0.0, 0.0), 6.0),
+                   position);
+        m.ComputeAllCovariances();
+    }
+    const Eigen::Matrix3Xd points = map.Points();
+    int checked = 0;
+    m.ForEachSlot([&](int32_t s) {
+        const Eigen::Vector3d truth = BruteNormal(points, m.points_world[s], 1.0, 10);
+        const Eigen::Vector3d &normal = m.Normal(s);
+        if (truth.isZero()) {
+            EXPECT_TRUE(normal.isZero()) << "slot " << s;
+        } else {
+            EXPECT_NEAR(std::abs(normal.dot(truth)), 1.0, 1e-6) << "slot " << s;
+        }
+        ++checked;
+    });
+    EXPECT_GT(checked, 1000);
+}
+
+TEST(LocalMap, MemoryDoesNotGrowWithTheDrive) {
+    std::mt19937 rng(11);
+    LocalMapConfig config;
+    config.max_distance_m = 40.0;
+    LocalMap map(config);
+    LocalMapConfig unbounded = config;
+    unbounded.max_distance_m = INFINITY;
+    LocalMap whole_run(unbounded);
+    std::size_t capacity_at_500m = 0, voxels_at_500m = 0;
+    for (int step = 0; step <= 2000; ++step) {  // 2 km, one update per metre
+        const Eigen::Vector3d position(step, 0.0, 0.0);
+        const Eigen::Matrix3Xd scan = RandomPoints(rng, 300, position, 30.0);
+        map.Update(scan, position);
+        whole_run.Update(scan, position);
+        if (step % 25 == 0) map.impl().ComputeAllCovariances();  // the shape caches too
+        if (step == 500) {
+            capacity_at_500m = map.capacity();
+            voxels_at_500m = map.voxel_count();
+        }
+    }
+    // The crop keeps about the voxels within 40 m; freed blocks are reused.
+    EXPECT_LE(map.capacity(), capacity_at_500m * 11 / 10);
+    EXPECT_LE(map.voxel_count(), voxels_at_500m * 11 / 10);
+    EXPECT_EQ(map.impl().covariances.size(), map.capacity());
+    EXPECT_LE(map.impl().blocks.size(), 2 * map.voxel_count());
+    // The whole-run map grows with the drive (and never allocates the shape caches).
+    EXPECT_GT(whole_run.size(), 2 * map.size());
+    EXPECT_TRUE(whole_run.impl().covariances.empty());
+}
+
+}  // namespace
+}  // namespace dorado::mapping
