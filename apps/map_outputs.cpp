@@ -16,7 +16,7 @@ namespace {
 constexpr const char *kCsvHeader =
     "t,time_doppler_ms,time_prior_ms,time_preprocess_ms,time_registration_ms,time_refinement_ms,"
     "time_map_update_ms,time_total_ms,correspondences,fitness,fallback,fallback_reason,prior,"
-    "prior_substitution\n";
+    "prior_substitution,local_map_points\n";
 
 std::string Quoted(const std::string &text) {
     std::string out = "\"";
@@ -71,7 +71,8 @@ void MapOutputs::Add(const frontend::FrontEndResult &result) {
                   t.total_ms, r.correspondences, r.fitness_rms_m, r.fallback ? 1 : 0);
     csv_ += row + Quoted(r.fallback_reason) + ',' +
             (result.prior_first_scan ? "first scan" : mapping::ToString(result.prior_used)) + ',' +
-            Quoted(result.prior_substitution) + '\n';
+            Quoted(result.prior_substitution) + ',' + std::to_string(r.local_map_points) + '\n';
+    max_local_map_points_ = std::max(max_local_map_points_, r.local_map_points);
 }
 
 void MapOutputs::Write(const std::string &out_dir, const Trajectory &trajectory) const {
@@ -96,7 +97,8 @@ nlohmann::json MapOutputs::Summary() const {
             {"time_per_scan_ms",
              TimeStatistics(total == stage_ms_.end() ? std::vector<double>{} : total->second)},
             {"time_per_stage_ms", stages},
-            {"map_points", map_.Points().cols()}};
+            {"map_points", map_.size()},
+            {"local_map_points_max", max_local_map_points_}};
 }
 
 double MapOutputs::mean_time_ms() const {

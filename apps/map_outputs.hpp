@@ -1,6 +1,7 @@
 #pragma once
 /// @file map_outputs.hpp
-/// What `dorado map` writes: scans.csv (per scan: time per stage, prior, registration), the output
+/// What `dorado map` writes: scans.csv (per scan: time per stage, prior, registration, local map
+/// size), the output
 /// map (map.pcd, map.ply, map.png), trajectory.tum, and the per-run counts for summary.json.
 
 #include <map>
@@ -38,6 +39,7 @@ class MapOutputs {
     std::map<std::string, std::vector<double>> stage_ms_;  ///< by stage name
     std::map<std::string, int> fallback_reasons_, prior_substitutions_;
     int fallbacks_ = 0, unmasked_ = 0;
+    std::size_t max_local_map_points_ = 0;
 };
 
 /// {"mean", "median", "p95"} of the values (null when empty).

@@ -342,6 +342,7 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
         result.map_updated = true;
     }
     result.times.map_update_ms = MillisecondsSince(t_map);
+    result.local_map_points = s.map.size();
 
     s.T_world_base_last = result.T_world_base;
     s.has_pose = true;

@@ -39,17 +39,19 @@ class VoxelHashSearch : public pcl::search::KdTree<PointT> {
 
     int nearestKSearch(const PointT &point, int k, pcl::Indices &k_indices,
                        std::vector<float> &k_sqr_distances) const override {
-        // PCL's correspondence estimation asks for k = 1 and compares the distance with its
-        // threshold, so "none" is reported as an infinite distance.
+        // PCL's registrations ask for k = 1 and compare the distance with their threshold; GICP
+        // gives up when a search finds nothing, so "none within the threshold" is one result at
+        // the largest float distance, which every threshold rejects.
         k_indices.assign(1, 0);
-        k_sqr_distances.assign(1, std::numeric_limits<float>::infinity());
+        k_sqr_distances.assign(1, std::numeric_limits<float>::max());
         if (k < 1) return 0;
         const Eigen::Vector3d query_world =
             point.getVector3fMap().template cast<double>() + map_.origin_world;
         const LocalMap::Neighbour nn = map_.Nearest(query_world, max_distance_m_);
-        if (nn.index < 0) return 0;
-        k_indices[0] = nn.index;
-        k_sqr_distances[0] = static_cast<float>(nn.distance_squared);
+        if (nn.index >= 0) {
+            k_indices[0] = nn.index;
+            k_sqr_distances[0] = static_cast<float>(nn.distance_squared);
+        }
         return 1;
     }
 

@@ -99,6 +99,7 @@ struct RegistrationResult {
     double threshold_m = 0.0;  ///< correspondence threshold used
     int doppler_residuals = 0;
     bool map_updated = false;
+    std::size_t local_map_points = 0;  ///< after this scan's update (bounded by the crop radius)
     StageTimes times;
 };
 
