@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <limits>
 
 #include "dorado/core/time.hpp"
 #include "dorado/io/atomic_file.hpp"
@@ -43,12 +42,12 @@ nlohmann::json TimeStatistics(std::vector<double> values_ms) {
 }
 
 MapOutputs::MapOutputs(double output_voxel_m)
-    : map_({output_voxel_m, 1, std::numeric_limits<double>::infinity()}), csv_(kCsvHeader) {}
+    : map_(output_voxel_m), csv_(kCsvHeader) {}
 
 void MapOutputs::Add(const frontend::FrontEndResult &result) {
     const mapping::RegistrationResult &r = result.registration;
     const frontend::FrontEndTimes &t = result.times;
-    map_.Update(result.static_points_world, result.T_world_base.translation());
+    map_.Add(result.static_points_world);
     positions_.push_back(result.T_world_base.translation());
     if (r.fallback) {
         ++fallbacks_;

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "dorado/frontend/radar_front_end.hpp"
-#include "dorado/mapping/local_map.hpp"
+#include "dorado/mapping/voxel_cloud.hpp"
 
 namespace dorado::apps {
 
@@ -33,7 +33,7 @@ class MapOutputs {
     [[nodiscard]] int fallbacks() const { return fallbacks_; }
 
   private:
-    mapping::LocalMap map_;
+    mapping::VoxelCloud map_;
     std::vector<Eigen::Vector3d> positions_;
     std::string csv_;
     std::map<std::string, std::vector<double>> stage_ms_;  ///< by stage name

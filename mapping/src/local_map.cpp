@@ -37,19 +37,8 @@ void LocalMapConfig::Validate() const {
     if (!(max_distance_m > 0.0)) fail("max_distance_m", "must be > 0");
 }
 
-namespace {
-
-// Voxel index of a coordinate in voxel units, clamped so that offsets of a few rings stay in range.
-int32_t Index(double s) {
-    constexpr double kLimit = 1 << 30;
-    return static_cast<int32_t>(std::clamp(std::floor(s), -kLimit, kLimit));
-}
-
-}  // namespace
-
 VoxelKey LocalMap::Impl::KeyOf(const Eigen::Vector3d &p) const {
-    const Eigen::Vector3d s = p / config.voxel_size_m;
-    return {Index(s.x()), Index(s.y()), Index(s.z())};
+    return VoxelKeyOf(p, config.voxel_size_m);
 }
 
 bool LocalMap::Impl::Insert(const Eigen::Vector3d &p) {
@@ -151,7 +140,7 @@ LocalMap::Neighbour LocalMap::Impl::Nearest(const Eigen::Vector3d &query_world,
     if (!(max_distance_m > 0.0) || !std::isfinite(max_distance_m)) return best;
     const double v = config.voxel_size_m;
     const Eigen::Vector3d s = query_world / v;
-    const VoxelKey key{Index(s.x()), Index(s.y()), Index(s.z())};
+    const VoxelKey key{VoxelIndex(s.x()), VoxelIndex(s.y()), VoxelIndex(s.z())};
     const Eigen::Vector3d f = s - Eigen::Vector3d(key.x, key.y, key.z);
     // A voxel is visited only when its box is closer than the best point so far (squared
     // distances in metres), so the answer is exact within max_distance_m.

@@ -19,25 +19,9 @@
 #include <vector>
 
 #include "dorado/mapping/local_map.hpp"
+#include "dorado/mapping/voxel_key.hpp"
 
 namespace dorado::mapping {
-
-/// 32-bit voxel indices keep the hash table small (the search is bound by its cache misses);
-/// KeyOf clamps them well inside the int32 range, so key arithmetic never overflows.
-struct VoxelKey {
-    int32_t x, y, z;
-    bool operator==(const VoxelKey &o) const { return x == o.x && y == o.y && z == o.z; }
-};
-
-struct VoxelKeyHash {
-    std::size_t operator()(const VoxelKey &k) const {
-        // The spatial hash of Teschner et al. (2003), as in kiss-icp's voxel map (unsigned, so
-        // the products wrap instead of overflowing).
-        return static_cast<std::size_t>((static_cast<uint32_t>(k.x) * 73856093u) ^
-                                        (static_cast<uint32_t>(k.y) * 19349669u) ^
-                                        (static_cast<uint32_t>(k.z) * 83492791u));
-    }
-};
 
 /// A map point's local shape is fitted to its k nearest map points within this many voxels
 /// (Chebyshev distance of the voxel keys): a bounded neighbourhood, so that a map update changes

@@ -1,5 +1,6 @@
 // The local map's voxel hash against brute force: the nearest point within a distance, the cached
-// local shapes after updates and crops, and a memory that does not grow with the drive.
+// local shapes after updates and crops, a memory that does not grow with the drive; and the
+// output map's voxel thinning.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "dorado/mapping/local_map.hpp"
+#include "dorado/mapping/voxel_cloud.hpp"
 #include "local_map_impl.hpp"
 
 namespace dorado::mapping {
@@ -149,6 +151,40 @@ TEST(LocalMap, MemoryDoesNotGrowWithTheDrive) {
     // The whole-run map grows with the drive (and never allocates the shape caches).
     EXPECT_GT(whole_run.size(), 2 * map.size());
     EXPECT_TRUE(whole_run.impl().covariances.empty());
+}
+
+}  // namespace
+}  // namespace dorado::mapping
+
+namespace dorado::mapping {
+namespace {
+
+TEST(VoxelCloud, KeepsTheFirstFinitePointOfEachVoxel) {
+    std::mt19937 rng(5);
+    const double voxel = 0.3;
+    // Far from the origin (precision of the float offsets) and across negative coordinates.
+    Eigen::Matrix3Xd points = RandomPoints(rng, 4000, Eigen::Vector3d(5000.0, -3000.0, 2.0), 4.0);
+    points.col(10).setConstant(NAN);
+    points(0, 20) = INFINITY;
+    VoxelCloud cloud(voxel);
+    cloud.Add(points.leftCols(2000));
+    cloud.Add(points.rightCols(2000));
+    // Brute force: the first finite point of each voxel, in order.
+    std::vector<Eigen::Vector3d> truth;
+    std::vector<Eigen::Vector3d> keys;
+    for (Eigen::Index i = 0; i < points.cols(); ++i) {
+        if (!points.col(i).allFinite()) continue;
+        const Eigen::Vector3d key = (points.col(i) / voxel).array().floor();
+        if (std::find(keys.begin(), keys.end(), key) != keys.end()) continue;
+        keys.push_back(key);
+        truth.push_back(points.col(i));
+    }
+    ASSERT_EQ(cloud.size(), truth.size());
+    ASSERT_LT(truth.size(), 3990u);  // some voxels really are shared
+    const Eigen::Matrix3Xd kept = cloud.Points();
+    for (std::size_t i = 0; i < truth.size(); ++i)
+        EXPECT_LT((kept.col(static_cast<Eigen::Index>(i)) - truth[i]).norm(), 1e-5) << i;
+    EXPECT_THROW(VoxelCloud(0.0), std::invalid_argument);
 }
 
 }  // namespace
