@@ -72,6 +72,7 @@ void LocalMap::Impl::ResizeShapes() {
     covariances.resize(points_world.size(), Eigen::Matrix3d::Identity());
     normals.resize(points_world.size(), Eigen::Vector3d::Zero());
     fitted_at.resize(points_world.size(), 0);
+    fitted_rings.resize(points_world.size(), 0);
 }
 
 namespace {
@@ -95,10 +96,9 @@ bool LocalMap::Impl::ShapeIsCurrent(int32_t i) const {
     const uint32_t fitted = fitted_at[i];
     if (fitted == 0) return false;
     const VoxelKey key = KeyOf(points_world[i]);
-    const VoxelKey lo = BlockOf({key.x - kCovarianceRings, key.y - kCovarianceRings,
-                                 key.z - kCovarianceRings});
-    const VoxelKey hi = BlockOf({key.x + kCovarianceRings, key.y + kCovarianceRings,
-                                 key.z + kCovarianceRings});
+    const int32_t r = fitted_rings[i];
+    const VoxelKey lo = BlockOf({key.x - r, key.y - r, key.z - r});
+    const VoxelKey hi = BlockOf({key.x + r, key.y + r, key.z + r});
     for (int32_t bx = lo.x; bx <= hi.x; ++bx)
         for (int32_t by = lo.y; by <= hi.y; ++by)
             for (int32_t bz = lo.z; bz <= hi.z; ++bz) {
@@ -120,10 +120,11 @@ void LocalMap::Impl::Crop(const Eigen::Vector3d &position_world) {
             ++it;
         }
     }
-    // Change stamps of blocks wholly beyond the crop radius are no longer needed (a voxel kept
-    // there, whose first point is inside, is at most one voxel diagonal out).
+    // Change stamps of blocks that no kept point's neighbourhood can reach are no longer needed
+    // (a kept voxel's first point is inside the radius, its other points a voxel diagonal out).
     const double block_m = kBlockVoxels * config.voxel_size_m;
-    const double reach = config.max_distance_m + std::sqrt(3.0) * (block_m + config.voxel_size_m);
+    const double reach = config.max_distance_m +
+                         std::sqrt(3.0) * (block_m + (kMaxShapeRings + 1) * config.voxel_size_m);
     for (auto it = blocks.begin(); it != blocks.end();) {
         const Eigen::Vector3d centre =
             (Eigen::Vector3d(static_cast<double>(it->first.x), static_cast<double>(it->first.y),
@@ -178,23 +179,37 @@ LocalMap::Neighbour LocalMap::Impl::Nearest(const Eigen::Vector3d &query_world,
     return best;
 }
 
-void LocalMap::Impl::NearestInNeighbourhood(int32_t i, int k) const {
+int LocalMap::Impl::NearestInNeighbourhood(int32_t i, int k) const {
     const Eigen::Vector3d &p = points_world[i];
     const VoxelKey key = KeyOf(p);
+    const auto wanted = static_cast<std::size_t>(k);
     scratch.clear();
-    for (int32_t dx = -kCovarianceRings; dx <= kCovarianceRings; ++dx)
-        for (int32_t dy = -kCovarianceRings; dy <= kCovarianceRings; ++dy)
-            for (int32_t dz = -kCovarianceRings; dz <= kCovarianceRings; ++dz) {
-                const auto it = voxels.find({key.x + dx, key.y + dy, key.z + dz});
-                if (it == voxels.end()) continue;
-                const Voxel &v = it->second;
-                for (int32_t s = v.first; s < v.first + v.count; ++s)
-                    scratch.emplace_back((points_world[s] - p).squaredNorm(), s);
-            }
-    const auto keep = std::min<std::size_t>(scratch.size(), static_cast<std::size_t>(k));
+    int rings = 0;
+    for (;; ++rings) {
+        // The shell of voxels exactly `rings` away (Chebyshev) from p's.
+        for (int32_t dx = -rings; dx <= rings; ++dx)
+            for (int32_t dy = -rings; dy <= rings; ++dy)
+                for (int32_t dz = -rings; dz <= rings; ++dz) {
+                    if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != rings) continue;
+                    const auto it = voxels.find({key.x + dx, key.y + dy, key.z + dz});
+                    if (it == voxels.end()) continue;
+                    const Voxel &v = it->second;
+                    for (int32_t s = v.first; s < v.first + v.count; ++s)
+                        scratch.emplace_back((points_world[s] - p).squaredNorm(), s);
+                }
+        if (rings >= kMaxShapeRings) break;
+        if (scratch.size() < wanted) continue;
+        // Every point closer than `rings` voxels has been seen: done when the k-th is that close.
+        std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(k - 1),
+                         scratch.end());
+        const double reach = rings * config.voxel_size_m;
+        if (scratch[wanted - 1].first <= reach * reach) break;
+    }
+    const std::size_t keep = std::min(scratch.size(), wanted);
     std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(keep),
                      scratch.end());
     scratch.resize(keep);
+    return rings;
 }
 
 void LocalMap::Impl::EnsureCloud() {
@@ -221,7 +236,7 @@ const Eigen::Matrix3d &LocalMap::Impl::Covariance(int32_t i) {
         ResizeShapes();
     }
     if (ShapeIsCurrent(i)) return covariances[i];
-    NearestInNeighbourhood(i, covariance_neighbours);
+    fitted_rings[i] = static_cast<uint8_t>(NearestInNeighbourhood(i, covariance_neighbours));
     fitted_at[i] = std::max<uint32_t>(update_stamp, 1);
     if (scratch.size() < 3) {  // no surface around it: round, and no direction to observe
         covariances[i] = Eigen::Matrix3d::Identity();

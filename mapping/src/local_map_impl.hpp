@@ -23,13 +23,14 @@
 
 namespace dorado::mapping {
 
-/// A map point's local shape is fitted to its k nearest map points within this many voxels
-/// (Chebyshev distance of the voxel keys): a bounded neighbourhood, so that a map update changes
-/// the cached shapes of the points near it only.
-inline constexpr int kCovarianceRings = 2;
+/// A map point's local shape is fitted to its k nearest map points (as a k-d tree would give),
+/// searched in growing shells of voxels around it; the search stops at this many voxels (Chebyshev
+/// distance of the keys), so a shape depends on a bounded neighbourhood and a map update changes
+/// only the cached shapes near it.
+inline constexpr int kMaxShapeRings = 6;
 /// Edge, in voxels, of the blocks that record when the map last changed in them: a shape is
-/// stale when a block its neighbourhood overlaps (at most 2 x 2 x 2) changed after it was fitted.
-inline constexpr int kBlockVoxels = 2 * kCovarianceRings + 1;
+/// stale when a block its neighbourhood overlaps changed after it was fitted.
+inline constexpr int kBlockVoxels = 5;
 
 /// The nearest-point search looks at most this many voxels away (a bound on its cost when a
 /// caller passes a huge distance).
@@ -69,6 +70,7 @@ struct LocalMap::Impl {
     std::vector<Eigen::Matrix3d> covariances;
     std::vector<Eigen::Vector3d> normals;
     std::vector<uint32_t> fitted_at;
+    std::vector<uint8_t> fitted_rings;  ///< the neighbourhood's reach, in voxels
     mutable std::vector<std::pair<double, int32_t>> scratch;  ///< k-NN candidates
 
     [[nodiscard]] VoxelKey KeyOf(const Eigen::Vector3d &p) const;
@@ -87,9 +89,10 @@ struct LocalMap::Impl {
     /// at kMaxSearchRings voxels), or index -1.
     [[nodiscard]] Neighbour Nearest(const Eigen::Vector3d &query_world,
                                     double max_distance_m) const;
-    /// The k nearest map points to slot i among the voxels within kCovarianceRings (itself
-    /// included), into `scratch` as (squared distance, slot), in no particular order.
-    void NearestInNeighbourhood(int32_t i, int k) const;
+    /// The k nearest map points to slot i (itself included; exact unless they reach beyond
+    /// kMaxShapeRings voxels, then the k nearest within them), into `scratch` as (squared
+    /// distance, slot) in no particular order. Returns the reach searched, in voxels.
+    int NearestInNeighbourhood(int32_t i, int k) const;
 
     /// Rebuilds PCL's float copy of the slot pool when the map changed since the last call.
     void EnsureCloud();
