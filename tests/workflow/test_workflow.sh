@@ -96,8 +96,10 @@ run_resume() {
         sleep 0.2
     done
     [ -n "$pid" ] || fail "$victim never started"
-    sleep 1
-    kill -KILL "$pid" && echo "killed the run $victim mid-way (pid $pid)"
+    # The mapper takes ~5 ms per scan: 30 s of data (450 scans) leave it running for seconds.
+    sleep 0.3
+    kill -KILL "$pid" || fail "the run $victim ended before it could be killed"
+    echo "killed the run $victim mid-way (pid $pid)"
     wait $smk && fail "the first invocation succeeded although a run was killed"
     [ -f "$victim/summary.json" ] && fail "the killed run looks finished"
     # Markers of what the first invocation finished, with their modification times.
