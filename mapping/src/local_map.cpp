@@ -88,6 +88,11 @@ VoxelKey BlockOf(const VoxelKey &voxel) {
 
 }  // namespace
 
+int LocalMap::Impl::MaxShapeRings() const {
+    return static_cast<int>(
+        std::min<double>(kMaxShapeRings, std::ceil(kShapeReachM / config.voxel_size_m)));
+}
+
 void LocalMap::Impl::MarkChanged(const VoxelKey &key) {
     blocks[BlockOf(key)] = update_stamp;
 }
@@ -124,7 +129,7 @@ void LocalMap::Impl::Crop(const Eigen::Vector3d &position_world) {
     // (a kept voxel's first point is inside the radius, its other points a voxel diagonal out).
     const double block_m = kBlockVoxels * config.voxel_size_m;
     const double reach = config.max_distance_m +
-                         std::sqrt(3.0) * (block_m + (kMaxShapeRings + 1) * config.voxel_size_m);
+                         std::sqrt(3.0) * (block_m + (MaxShapeRings() + 1) * config.voxel_size_m);
     for (auto it = blocks.begin(); it != blocks.end();) {
         const Eigen::Vector3d centre =
             (Eigen::Vector3d(static_cast<double>(it->first.x), static_cast<double>(it->first.y),
@@ -184,6 +189,7 @@ int LocalMap::Impl::NearestInNeighbourhood(int32_t i, int k) const {
     const VoxelKey key = KeyOf(p);
     const auto wanted = static_cast<std::size_t>(k);
     scratch.clear();
+    const int max_rings = MaxShapeRings();
     int rings = 0;
     for (;; ++rings) {
         // The shell of voxels exactly `rings` away (Chebyshev) from p's.
@@ -197,7 +203,7 @@ int LocalMap::Impl::NearestInNeighbourhood(int32_t i, int k) const {
                     for (int32_t s = v.first; s < v.first + v.count; ++s)
                         scratch.emplace_back((points_world[s] - p).squaredNorm(), s);
                 }
-        if (rings >= kMaxShapeRings) break;
+        if (rings >= max_rings) break;
         if (scratch.size() < wanted) continue;
         // Every point closer than `rings` voxels has been seen: done when the k-th is that close.
         std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(k - 1),

@@ -24,10 +24,11 @@
 namespace dorado::mapping {
 
 /// A map point's local shape is fitted to its k nearest map points (as a k-d tree would give),
-/// searched in growing shells of voxels around it; the search stops at this many voxels (Chebyshev
-/// distance of the keys), so a shape depends on a bounded neighbourhood and a map update changes
-/// only the cached shapes near it.
-inline constexpr int kMaxShapeRings = 6;
+/// searched in growing shells of voxels around it; the search stops at kShapeReachM (and at most
+/// kMaxShapeRings voxels, Chebyshev distance of the keys), so a shape depends on a bounded
+/// neighbourhood and a map update changes only the cached shapes near it.
+inline constexpr double kShapeReachM = 6.0;
+inline constexpr int kMaxShapeRings = 16;
 /// Edge, in voxels, of the blocks that record when the map last changed in them: a shape is
 /// stale when a block its neighbourhood overlaps changed after it was fitted.
 inline constexpr int kBlockVoxels = 5;
@@ -80,6 +81,8 @@ struct LocalMap::Impl {
     void Crop(const Eigen::Vector3d &position_world);
     /// Sizes the shape caches to the slot pool.
     void ResizeShapes();
+    /// Shells searched at most for a shape: kShapeReachM in voxels, capped at kMaxShapeRings.
+    [[nodiscard]] int MaxShapeRings() const;
     /// Records that voxel `key` changed in this update (its block's stamp).
     void MarkChanged(const VoxelKey &key);
     /// Whether slot i's cached shape is still that of its neighbourhood.
@@ -90,7 +93,7 @@ struct LocalMap::Impl {
     [[nodiscard]] Neighbour Nearest(const Eigen::Vector3d &query_world,
                                     double max_distance_m) const;
     /// The k nearest map points to slot i (itself included; exact unless they reach beyond
-    /// kMaxShapeRings voxels, then the k nearest within them), into `scratch` as (squared
+    /// MaxShapeRings() voxels, then the k nearest within them), into `scratch` as (squared
     /// distance, slot) in no particular order. Returns the reach searched, in voxels.
     int NearestInNeighbourhood(int32_t i, int k) const;
 
