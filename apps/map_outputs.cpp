@@ -41,8 +41,7 @@ nlohmann::json TimeStatistics(std::vector<double> values_ms) {
     return {{"mean", mean}, {"median", values_ms[values_ms.size() / 2]}, {"p95", at(0.95)}};
 }
 
-MapOutputs::MapOutputs(double output_voxel_m)
-    : map_(output_voxel_m), csv_(kCsvHeader) {}
+MapOutputs::MapOutputs(double output_voxel_m) : map_(output_voxel_m), csv_(kCsvHeader) {}
 
 void MapOutputs::Add(const frontend::FrontEndResult &result) {
     const mapping::RegistrationResult &r = result.registration;

@@ -1,8 +1,8 @@
 #pragma once
 /// @file map_outputs.hpp
 /// What `dorado map` writes: scans.csv (per scan: time per stage, prior, registration, local map
-/// size), the output
-/// map (map.pcd, map.ply, map.png), trajectory.tum, and the per-run counts for summary.json.
+/// size), the output map (map.pcd, map.ply, map.png), trajectory.tum, and the per-run counts for
+/// summary.json.
 
 #include <map>
 #include <nlohmann/json.hpp>

@@ -29,14 +29,13 @@ Association Associate(const Eigen::Matrix3Xd &source_base, const Eigen::Isometry
 
     // Every source point is tested (the counts and the observability need them all); the residuals
     // handed to Ceres are then thinned evenly.
-    const double threshold_sq = threshold_m * threshold_m;
     std::vector<std::pair<Eigen::Index, int>> found;
     found.reserve(static_cast<std::size_t>(source_base.cols()));
     double sum_sq = 0.0;
     for (Eigen::Index i = 0; i < source_base.cols(); ++i) {
         const Eigen::Vector3d p_world = T_world_base * source_base.col(i);
-        const LocalMap::Neighbour nn = map.Nearest(p_world, threshold_m);
-        if (nn.index < 0 || nn.distance_squared > threshold_sq) continue;
+        const LocalMap::Neighbour nn = map.Nearest(p_world, threshold_m);  // within the threshold
+        if (nn.index < 0) continue;
         found.emplace_back(i, nn.index);
         sum_sq += nn.distance_squared;
     }

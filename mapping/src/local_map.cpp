@@ -68,6 +68,12 @@ bool LocalMap::Impl::Insert(const Eigen::Vector3d &p) {
     return true;
 }
 
+void LocalMap::Impl::UseShapes() {
+    if (shapes_used) return;
+    shapes_used = true;
+    ResizeShapes();
+}
+
 void LocalMap::Impl::ResizeShapes() {
     covariances.resize(points_world.size(), Eigen::Matrix3d::Identity());
     normals.resize(points_world.size(), Eigen::Vector3d::Zero());
@@ -237,10 +243,7 @@ void LocalMap::Impl::SetCovarianceModel(int neighbours, double flatness) {
 }
 
 const Eigen::Matrix3d &LocalMap::Impl::Covariance(int32_t i) {
-    if (!shapes_used) {
-        shapes_used = true;
-        ResizeShapes();
-    }
+    UseShapes();
     if (ShapeIsCurrent(i)) return covariances[i];
     fitted_rings[i] = static_cast<uint8_t>(NearestInNeighbourhood(i, covariance_neighbours));
     fitted_at[i] = std::max<uint32_t>(update_stamp, 1);
@@ -270,10 +273,7 @@ const Eigen::Vector3d &LocalMap::Impl::Normal(int32_t i) {
 }
 
 void LocalMap::Impl::ComputeAllCovariances() {
-    if (!shapes_used) {
-        shapes_used = true;
-        ResizeShapes();
-    }
+    UseShapes();
     ForEachSlot([this](int32_t s) { Covariance(s); });
 }
 
@@ -294,7 +294,7 @@ void LocalMap::Update(const Eigen::Matrix3Xd &points_world, const Eigen::Vector3
     }
     m.last_position_world = position_world;
     m.cloud_dirty = true;
-    // An unbounded map (the whole-run output map) is never cropped: the crop walks every voxel.
+    // An unbounded map (max_distance_m infinite) is never cropped: the crop walks every voxel.
     if (std::isfinite(m.config.max_distance_m)) m.Crop(position_world);
 }
 

@@ -51,7 +51,7 @@ struct LocalMap::Impl {
     std::vector<Eigen::Vector3d> points_world;  ///< slot pool (free slots hold stale values)
     std::vector<int32_t> free_blocks;
     std::size_t point_count = 0;
-    uint32_t update_stamp = 0;                                    ///< Update calls so far
+    uint32_t update_stamp = 0;                                ///< Update calls so far
     tsl::robin_map<VoxelKey, uint32_t, VoxelKeyHash> blocks;  ///< block -> last change
 
     // PCL works in float: its copy of the slot pool is stored relative to `origin_world` (the
@@ -81,6 +81,8 @@ struct LocalMap::Impl {
     void Crop(const Eigen::Vector3d &position_world);
     /// Sizes the shape caches to the slot pool.
     void ResizeShapes();
+    /// Allocates the shape caches on the first request for a shape.
+    void UseShapes();
     /// Shells searched at most for a shape: kShapeReachM in voxels, capped at kMaxShapeRings.
     [[nodiscard]] int MaxShapeRings() const;
     /// Records that voxel `key` changed in this update (its block's stamp).

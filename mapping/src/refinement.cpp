@@ -61,7 +61,8 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
     problem.SetManifold(q_world_base.coeffs().data(), new ceres::EigenQuaternionManifold);
 
     ceres::Solver::Options options;
-    options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;  // 6 unknowns: the 6x6 normal equations
+    options.linear_solver_type =
+        ceres::DENSE_NORMAL_CHOLESKY;  // 6 unknowns: the 6x6 normal equations
     options.max_num_iterations = config.refine_max_iterations;
     options.num_threads = 1;
     options.logging_type = ceres::SILENT;

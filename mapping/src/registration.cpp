@@ -25,7 +25,6 @@ template <typename PointT>
 class VoxelHashSearch : public pcl::search::KdTree<PointT> {
   public:
     using Base = pcl::search::KdTree<PointT>;
-    using Ptr = typename Base::Ptr;
     using Base::nearestKSearch;
 
     VoxelHashSearch(const LocalMap::Impl &map, double max_distance_m)

@@ -49,13 +49,13 @@ class LocalMap {
 
     /// Nearest map point to query_world closer than max_distance_m (exact; the search reaches at
     /// most 16 voxels): its slot index, stable while its voxel stays in the map, and the squared
-    /// distance; index -1 when there is none.
+    /// distance; index -1 when there is none (and for a distance that is not finite and > 0).
     struct Neighbour {
         int index = -1;
         double distance_squared = 0.0;
     };
     [[nodiscard]] Neighbour Nearest(const Eigen::Vector3d &query_world,
-                                      double max_distance_m) const;
+                                    double max_distance_m) const;
 
     /// Implementation (voxel hash, PCL's float copy); defined in mapping/src/local_map_impl.hpp.
     struct Impl;
