@@ -47,6 +47,7 @@ void MapOutputs::Add(const frontend::FrontEndResult &result) {
     const mapping::RegistrationResult &r = result.registration;
     const frontend::FrontEndTimes &t = result.times;
     map_.Add(result.static_points_world);
+    covariances_.Add(result);
     positions_.push_back(result.T_world_base.translation());
     if (r.fallback) {
         ++fallbacks_;
@@ -80,6 +81,8 @@ void MapOutputs::Write(const std::string &out_dir, const Trajectory &trajectory)
     io::WritePly(out_dir + "/map.ply", points);
     WriteBirdsEyeImage(out_dir + "/map.png", points, positions_);
     io::WriteFileAtomically(out_dir + "/scans.csv", [&](std::ostream &os) { os << csv_; });
+    io::WriteFileAtomically(out_dir + "/covariance.csv",
+                            [&](std::ostream &os) { os << covariances_.csv(); });
 }
 
 nlohmann::json MapOutputs::Summary() const {

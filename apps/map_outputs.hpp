@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "dorado/frontend/radar_front_end.hpp"
+#include "covariance_table.hpp"
 #include "dorado/mapping/voxel_cloud.hpp"
 
 namespace dorado::apps {
@@ -22,7 +23,7 @@ class MapOutputs {
     /// Records one accepted scan.
     void Add(const frontend::FrontEndResult &result);
 
-    /// Writes trajectory.tum, the map files and scans.csv into out_dir.
+    /// Writes trajectory.tum, the map files, scans.csv and covariance.csv into out_dir.
     void Write(const std::string &out_dir, const Trajectory &trajectory) const;
 
     /// The counts and timings for summary.json: fallbacks and their reasons, prior
@@ -36,6 +37,7 @@ class MapOutputs {
     mapping::VoxelCloud map_;
     std::vector<Eigen::Vector3d> positions_;
     std::string csv_;
+    CovarianceTable covariances_;
     std::map<std::string, std::vector<double>> stage_ms_;  ///< by stage name
     std::map<std::string, int> fallback_reasons_, prior_substitutions_;
     int fallbacks_ = 0, unmasked_ = 0;

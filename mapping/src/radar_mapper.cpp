@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "dorado/mapping/adaptive_threshold.hpp"
+#include "pose_information.hpp"
 #include "registration.hpp"
 
 namespace dorado::mapping {
@@ -61,6 +62,15 @@ Eigen::Matrix3Xd ThinColumns(const Eigen::Matrix3Xd &points, int max_count) {
     return out;
 }
 
+// The registration-alone estimate, kept in the result for comparison with the fused one.
+void KeepRegistration(const RefinementOutput &refined, RegistrationResult &result) {
+    result.registration_valid = refined.registration_valid;
+    result.T_world_base_registration = refined.T_world_base_registration;
+    result.registration_covariance = refined.registration_covariance;
+    result.registration_residual_scale = refined.registration_residual_scale;
+    result.registration_clusters = refined.registration_clusters;
+}
+
 WindowNoise WindowNoiseOf(const MapperConfig &config) {
     return {config.doppler_sigma_mps, static_cast<WindowLoss>(config.kernel), config.kernel_scale};
 }
@@ -92,6 +102,12 @@ void MapperConfig::Validate() const {
     Require(max_doppler_residuals >= 0, "max_doppler_residuals", "must be >= 0");
     Require(refine_max_iterations >= 1, "refine_max_iterations", "must be >= 1");
     Require(refine_outer_iterations >= 1, "refine_outer_iterations", "must be >= 1");
+    Require(registration_floor_sigma_translation_m >= 0.0,
+            "registration_floor_sigma_translation_m", "must be >= 0");
+    Require(registration_floor_sigma_rotation_rad >= 0.0, "registration_floor_sigma_rotation_rad",
+            "must be >= 0");
+    Require(registration_cluster_m > 0.0 && std::isfinite(registration_cluster_m),
+            "registration_cluster_m", "must be > 0");
     if (refinement == Refinement::kWindow) window.Validate();
     Require(min_correspondences >= 6, "min_correspondences", "must be >= 6");
     Require(max_rms_m > 0.0, "max_rms_m", "must be > 0");
@@ -195,15 +211,18 @@ std::string CheckRegistration(const PclAlignment &aligned, const Association &as
 
 }  // namespace
 
-// Doppler-aware refinement (Ceres): registration + Doppler + prior residuals, re-associating
-// refine_outer_iterations times. Starts from and updates result.T_world_base.
+// Doppler-aware refinement (Ceres): the registration alone, then its fusion with the prior and the
+// Doppler residuals by their information, re-associating refine_outer_iterations times. Starts from
+// and updates result.T_world_base and its covariance. The Doppler residuals join only when the
+// prior was not built from the same Doppler velocity (counted once).
 void RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
                                 const std::vector<DopplerObservation> &doppler_all,
                                 const MotionPrior &prior, double dt_s, Association association,
                                 RegistrationResult &result) const {
     const std::vector<DopplerObservation> doppler =
-        (config.use_doppler && has_pose) ? Thin(doppler_all, config.max_doppler_residuals)
-                                         : std::vector<DopplerObservation>{};
+        (config.use_doppler && has_pose && !CarriesDoppler(prior))
+            ? Thin(doppler_all, config.max_doppler_residuals)
+            : std::vector<DopplerObservation>{};
     result.doppler_residuals = static_cast<int>(doppler.size());
     for (int outer = 0; outer < config.refine_outer_iterations; ++outer) {
         if (outer > 0)
@@ -213,9 +232,17 @@ void RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
         RefinementInput input{
             result.T_world_base,     &prior, &association.matches, &doppler, T_world_base_last,
             extrinsics.T_base_radar, dt_s};
-        const RefinementOutput refined = RefinePose(input, config);
+        const RefinementOutput refined = config.refinement == Refinement::kCeres
+                                             ? RefinePose(input, config)
+                                             : RegisterAlone(input, config);
+        KeepRegistration(refined, result);
         if (!refined.usable) break;
-        result.T_world_base = refined.T_world_base;
+        if (config.refinement == Refinement::kCeres) {
+            result.T_world_base = refined.T_world_base;
+            result.covariance = refined.covariance;
+        } else {  // none: PCL's pose; the window smoother's covariance is set after it
+            result.covariance = refined.registration_covariance;
+        }
     }
     result.correspondences = association.count;
     result.fitness_rms_m = association.rms_m;
@@ -276,11 +303,9 @@ void RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source_base,
     }
     result.T_world_base = aligned.T_world_base;
     if (config.refinement == Refinement::kWindow) window_matches = association.matches;
-    if (config.refinement == Refinement::kCeres) {
-        const auto t_refine = Clock::now();
-        Refine(source_base, doppler, prior, dt_s, association, result);
-        result.times.refinement_ms = MillisecondsSince(t_refine);
-    }
+    const auto t_refine = Clock::now();
+    Refine(source_base, doppler, prior, dt_s, association, result);
+    result.times.refinement_ms = MillisecondsSince(t_refine);
     // kiss-icp: the threshold adapts to how far registration corrected the prior.
     threshold.Update(prior.T_world_base.inverse() * result.T_world_base);
 }
@@ -324,12 +349,20 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
     }
     if (result.fallback) {
         result.T_world_base = prior.T_world_base;
+        result.covariance = prior.covariance;
+        result.registration_valid = false;
         ++s.fallbacks;
     }
     if (s.window) {  // every scan enters the window; a fallback one without registration residuals
         const auto t_window = Clock::now();
         result.T_world_base = s.SmoothWindow(points.doppler, prior, dt_s, gyro_base_radps, result);
-        result.times.refinement_ms = MillisecondsSince(t_window);
+        result.times.refinement_ms += MillisecondsSince(t_window);
+        // The window's marginal is not computed: the prior and the registration fused by their
+        // information stand in for it (the window's older scans only tighten it).
+        if (result.registration_valid)
+            result.covariance = CovarianceFromInformation(
+                CovarianceFromInformation(prior.covariance) +
+                CovarianceFromInformation(result.registration_covariance));
     }
 
     // 4. Map update (keyframes only, when configured).
@@ -408,6 +441,27 @@ RobustKernel ParseRobustKernel(const std::string &name) {
         if (name == ToString(k)) return k;
     throw std::invalid_argument("unknown robust kernel '" + name +
                                 "' (none, huber, cauchy, tukey)");
+}
+
+const char *ToString(RegistrationCovarianceModel model) {
+    switch (model) {
+        case RegistrationCovarianceModel::kIndependent:
+            return "independent";
+        case RegistrationCovarianceModel::kResidualScale:
+            return "residual_scale";
+        case RegistrationCovarianceModel::kClustered:
+            return "clustered";
+    }
+    return "?";
+}
+
+RegistrationCovarianceModel ParseRegistrationCovarianceModel(const std::string &name) {
+    for (auto m : {RegistrationCovarianceModel::kIndependent,
+                   RegistrationCovarianceModel::kResidualScale,
+                   RegistrationCovarianceModel::kClustered})
+        if (name == ToString(m)) return m;
+    throw std::invalid_argument("unknown registration covariance '" + name +
+                                "' (independent, residual_scale, clustered)");
 }
 
 }  // namespace dorado::mapping

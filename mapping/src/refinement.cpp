@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "cost_functions.hpp"
+#include "pose_information.hpp"
 #include "registration.hpp"
 
 namespace dorado::mapping {
@@ -24,45 +25,27 @@ std::unique_ptr<ceres::LossFunction> MakeLoss(RobustKernel kernel, double scale)
     return nullptr;
 }
 
-}  // namespace
+// A pose as Ceres' parameter blocks: position and unit quaternion (x, y, z, w).
+struct PoseBlocks {
+    Eigen::Vector3d t;
+    Eigen::Quaterniond q;
 
-RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &config) {
-    Eigen::Vector3d t_world_base = input.T_world_base_initial.translation();
-    Eigen::Quaterniond q_world_base(input.T_world_base_initial.linear());
-    q_world_base.normalize();
-
-    ceres::Problem::Options problem_options;
-    problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
-    ceres::Problem problem(problem_options);
-    const auto registration_loss = MakeLoss(config.kernel, config.kernel_scale);
-    const auto doppler_loss = MakeLoss(config.kernel, config.kernel_scale);
-
-    for (const auto &m : *input.matches) {
-        problem.AddResidualBlock(RegistrationError::Create(m.p_base, m.q_world, m.sqrt_information),
-                                 registration_loss.get(), t_world_base.data(),
-                                 q_world_base.coeffs().data());
+    explicit PoseBlocks(const Eigen::Isometry3d &T)
+        : t(T.translation()), q(Eigen::Quaterniond(T.linear()).normalized()) {}
+    [[nodiscard]] Eigen::Isometry3d Pose() const {
+        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+        T.linear() = q.normalized().toRotationMatrix();
+        T.translation() = t;
+        return T;
     }
-    if (input.doppler != nullptr && !input.doppler->empty()) {
-        const auto velocity = std::make_shared<SharedRadarVelocity>(
-            input.T_base_radar, input.T_world_base_prev, input.dt_s);
-        for (const auto &d : *input.doppler) {
-            problem.AddResidualBlock(
-                new DopplerError(d.d_radar, d.doppler_mps, velocity, config.doppler_sigma_mps),
-                doppler_loss.get(), t_world_base.data(), q_world_base.coeffs().data());
-        }
-    }
-    // The prior is trusted as Gaussian: no robust loss, its covariance already says how much.
-    problem.AddResidualBlock(PriorError::Create(input.prior->T_world_base,
-                                                InverseCholeskyFactor<6>(input.prior->covariance)),
-                             nullptr, t_world_base.data(), q_world_base.coeffs().data());
-    // Only the new pose is free: the map and the previous pose are fixed, so there is no gauge
-    // freedom to remove (unlike pose_graph_3d, which pins its first pose).
-    problem.SetManifold(q_world_base.coeffs().data(), new ceres::EigenQuaternionManifold);
+    [[nodiscard]] bool Finite() const { return t.allFinite() && q.coeffs().allFinite(); }
+};
 
+// Solves a one-pose problem; true when Ceres' solution is usable.
+bool Solve(ceres::Problem &problem, PoseBlocks &pose, const MapperConfig &config, int &iterations) {
+    problem.SetManifold(pose.q.coeffs().data(), new ceres::EigenQuaternionManifold);
     ceres::Solver::Options options;
-    options.linear_solver_type =
-        ceres::DENSE_NORMAL_CHOLESKY;  // 6 unknowns: the 6x6 normal equations
+    options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;  // 6 unknowns: 6x6 normal equations
     options.max_num_iterations = config.refine_max_iterations;
     options.num_threads = 1;
     options.logging_type = ceres::SILENT;
@@ -71,15 +54,88 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
     options.parameter_tolerance = 1e-7;
     ceres::Solver::Summary summary;
     ceres::Solve(options, &problem, &summary);
+    iterations += static_cast<int>(summary.iterations.size());
+    return summary.IsSolutionUsable() && pose.Finite();
+}
 
+ceres::Problem::Options ProblemOptions() {
+    ceres::Problem::Options options;
+    options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    options.manifold_ownership = ceres::TAKE_OWNERSHIP;
+    return options;
+}
+}  // namespace
+
+RefinementOutput RegisterAlone(const RefinementInput &input, const MapperConfig &config) {
     RefinementOutput out;
-    out.iterations = static_cast<int>(summary.iterations.size());
-    out.usable =
-        summary.IsSolutionUsable() && t_world_base.allFinite() && q_world_base.coeffs().allFinite();
-    out.T_world_base = Eigen::Isometry3d::Identity();
-    out.T_world_base.linear() = q_world_base.normalized().toRotationMatrix();
-    out.T_world_base.translation() = t_world_base;
-    if (!out.usable) out.T_world_base = input.T_world_base_initial;
+    out.T_world_base = input.T_world_base_initial;
+    const auto loss = MakeLoss(config.kernel, config.kernel_scale);
+    // Only the new pose is free and the map is fixed: no gauge freedom to remove (unlike
+    // pose_graph_3d, which pins its first pose).
+    PoseBlocks pose(input.T_world_base_initial);
+    ceres::Problem problem(ProblemOptions());
+    for (const auto &m : *input.matches)
+        problem.AddResidualBlock(RegistrationError::Create(m.p_base, m.q_world, m.sqrt_information),
+                                 loss.get(), pose.t.data(), pose.q.coeffs().data());
+    if (!Solve(problem, pose, config, out.iterations)) return out;
+    const RegistrationCovarianceResult covariance =
+        RegistrationCovariance(pose.Pose(), *input.matches, loss.get(), config);
+    out.registration_residual_scale = covariance.residual_scale;
+    out.registration_clusters = covariance.clusters;
+    if (!covariance.valid) return out;
+    out.registration_valid = true;
+    out.T_world_base_registration = pose.Pose();
+    out.registration_covariance = covariance.covariance;
+    out.T_world_base = out.T_world_base_registration;
+    out.covariance = covariance.covariance;
+    out.usable = true;
+    return out;
+}
+
+RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &config) {
+    // 1. The registration alone, with its covariance.
+    RefinementOutput out = RegisterAlone(input, config);
+    out.usable = false;
+    if (!out.registration_valid) {
+        out.T_world_base = input.T_world_base_initial;
+        return out;
+    }
+    // 2. Its fusion with the prior (a Gaussian: no robust loss, its covariance says how much) and
+    //    the Doppler residuals, each by its information: the registration enters as one 6-DoF
+    //    measurement of the pose, so its hundreds of residuals count only as much as they show.
+    const auto doppler_loss = MakeLoss(config.kernel, config.kernel_scale);
+    PoseBlocks pose(out.T_world_base_registration);
+    ceres::Problem problem(ProblemOptions());
+    problem.AddResidualBlock(PriorError::Create(input.prior->T_world_base,
+                                                InverseCholeskyFactor<6>(input.prior->covariance)),
+                             nullptr, pose.t.data(), pose.q.coeffs().data());
+    problem.AddResidualBlock(PriorError::Create(out.T_world_base_registration,
+                                                InverseCholeskyFactor<6>(out.registration_covariance)),
+                             nullptr, pose.t.data(), pose.q.coeffs().data());
+    const bool with_doppler = input.doppler != nullptr && !input.doppler->empty();
+    if (with_doppler) {
+        const auto velocity = std::make_shared<SharedRadarVelocity>(
+            input.T_base_radar, input.T_world_base_prev, input.dt_s);
+        for (const auto &d : *input.doppler) {
+            problem.AddResidualBlock(
+                new DopplerError(d.d_radar, d.doppler_mps, velocity, config.doppler_sigma_mps),
+                doppler_loss.get(), pose.t.data(), pose.q.coeffs().data());
+        }
+    }
+    if (!Solve(problem, pose, config, out.iterations)) {
+        out.T_world_base = input.T_world_base_initial;
+        return out;
+    }
+    out.usable = true;
+    out.T_world_base = pose.Pose();
+    // The fused covariance: the inputs' informations summed (first order at the solution).
+    Matrix6d information = CovarianceFromInformation(input.prior->covariance) +
+                           CovarianceFromInformation(out.registration_covariance);
+    if (with_doppler)
+        information += DopplerInformation(out.T_world_base, *input.doppler,
+                                          input.T_world_base_prev, input.T_base_radar, input.dt_s,
+                                          doppler_loss.get(), config);
+    out.covariance = CovarianceFromInformation(information);
     return out;
 }
 

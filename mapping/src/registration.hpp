@@ -69,10 +69,23 @@ struct RefinementOutput {
     Eigen::Isometry3d T_world_base;
     bool usable = false;
     int iterations = 0;
+    Matrix6d covariance = Matrix6d::Zero();  ///< of T_world_base (xi convention, pose_information)
+    /// The registration alone: its Ceres minimum from T_world_base_initial and its covariance.
+    bool registration_valid = false;
+    Eigen::Isometry3d T_world_base_registration = Eigen::Isometry3d::Identity();
+    Matrix6d registration_covariance = Matrix6d::Zero();
+    double registration_residual_scale = 0.0;
+    int registration_clusters = 0;
 };
 
-/// Joint Ceres refinement of the new pose: registration + Doppler + prior residuals, robust loss
-/// on the first two. refinement.cpp.
+/// The registration alone and its covariance (registration_covariance), for refinement none and
+/// window, which do not fuse it here. refinement.cpp.
+[[nodiscard]] RefinementOutput RegisterAlone(const RefinementInput &input,
+                                             const MapperConfig &config);
+
+/// The refinement of the new pose in two steps: the registration alone (its residuals, robust
+/// loss) with its covariance, then its fusion with the prior and, when the prior does not already
+/// carry them, the Doppler residuals, each weighted by its information. refinement.cpp.
 [[nodiscard]] RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &config);
 
 }  // namespace dorado::mapping

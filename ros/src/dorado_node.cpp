@@ -1,6 +1,5 @@
 #include "dorado_node.hpp"
 
-#include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
 
 #include <cstdio>
@@ -15,22 +14,6 @@ namespace {
 
 double MillisecondsSince(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
-}
-
-geometry_msgs::TransformStamped TransformOf(const std_msgs::Header &header,
-                                            const std::string &child, const Eigen::Isometry3d &T) {
-    geometry_msgs::TransformStamped tf;
-    tf.header = header;
-    tf.child_frame_id = child;
-    const Eigen::Quaterniond q(T.linear());
-    tf.transform.translation.x = T.translation().x();
-    tf.transform.translation.y = T.translation().y();
-    tf.transform.translation.z = T.translation().z();
-    tf.transform.rotation.x = q.x();
-    tf.transform.rotation.y = q.y();
-    tf.transform.rotation.z = q.z();
-    tf.transform.rotation.w = q.w();
-    return tf;
 }
 
 }  // namespace
@@ -281,46 +264,6 @@ void DoradoNode::ReportPrior(const frontend::FrontEndResult &result) {
         warnings_.Count("odometry fallback", result.odometry.fallback_reason))
         ROS_WARN("dorado_ros: odometry fell back: %s (further ones are summarised)",
                  result.odometry.fallback_reason.c_str());
-}
-
-void DoradoNode::Publish(const std_msgs::Header &header, const RadarScan &scan,
-                         const frontend::FrontEndResult &result) {
-    std_msgs::Header world = header;
-    world.frame_id = settings_.tf_from_frame;
-    const Eigen::Isometry3d &T_base_child = settings_.T_base_child;
-    const odometry::VehicleTwist twist = TwistAt(result.twist_base, T_base_child);
-    const Eigen::Isometry3d T_world_child = result.T_world_base_odometry * T_base_child;
-
-    nav_msgs::Odometry odom;
-    odom.header = world;
-    odom.child_frame_id = settings_.tf_to_frame;
-    FillOdometry(T_world_child, pose_covariance_.covariance(), twist, odom);
-    odom_pub_.publish(odom);
-    if (settings_.publish_tf)
-        tf_broadcaster_.sendTransform(TransformOf(world, settings_.tf_to_frame, T_world_child));
-    ++published_;
-    if (!settings_.front_end.run_mapper) return;
-
-    nav_msgs::Odometry map_odom;
-    map_odom.header = world;
-    map_odom.child_frame_id = settings_.tf_to_frame;
-    // The mapper estimates no pose covariance: left at zero.
-    FillOdometry(result.T_world_base * T_base_child, Eigen::Matrix<double, 6, 6>::Zero(), twist,
-                 map_odom);
-    map_odom_pub_.publish(map_odom);
-    if (result.static_mask.size() == scan.size()) {
-        if (static_pub_.getNumSubscribers() > 0)
-            static_pub_.publish(MakeCloud(header, scan, result.static_mask, true));
-        if (dynamic_pub_.getNumSubscribers() > 0)
-            dynamic_pub_.publish(MakeCloud(header, scan, result.static_mask, false));
-    }
-    const mapping::LocalMap *map = front_end_.local_map();
-    if (map && local_map_pub_.getNumSubscribers() > 0 &&
-        std::chrono::duration<double>(Clock::now() - last_local_map_).count() >=
-            settings_.local_map_period_s) {
-        last_local_map_ = Clock::now();
-        local_map_pub_.publish(MakeCloud(world, map->Points()));
-    }
 }
 
 void DoradoNode::ReportPeriodically() {

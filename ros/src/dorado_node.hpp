@@ -24,6 +24,13 @@
 
 namespace dorado::ros_node {
 
+/// The mapper's pose covariance (right perturbation [rho; phi] of T_map_base in the base frame)
+/// as nav_msgs/Odometry's pose covariance of T_map_base * T_base_child: position and rotation
+/// errors about the map frame's axes. node_publish.cpp.
+[[nodiscard]] Matrix6d MapPoseCovariance(const Eigen::Isometry3d &T_map_base,
+                                         const Eigen::Isometry3d &T_base_child,
+                                         const Matrix6d &C_base);
+
 class DoradoNode {
   public:
     DoradoNode(ros::NodeHandle &node, NodeSettings settings);

@@ -170,7 +170,10 @@ NodeSettings ReadNodeSettings(const ros::NodeHandle &node, const ros::NodeHandle
     if (s.needs_imu && s.imu_topic.empty())
         params.Fail("imu_topic", "is required: the prior or method needs the IMU");
     params.Get("tf_from_frame", s.tf_from_frame);
+    params.Get("map_frame", s.map_frame);
     params.Get("tf_to_frame", s.tf_to_frame);
+    if (s.map_frame == s.tf_from_frame || s.map_frame == s.tf_to_frame)
+        params.Fail("map_frame", "must differ from tf_from_frame and tf_to_frame (REP 105)");
     params.Get("publish_tf", s.publish_tf);
     params.Get("verbose", s.verbose);
     std::vector<double> pose;

@@ -22,7 +22,8 @@ struct NodeSettings {
     std::string input_topic;             ///< PointCloud2
     std::string imu_topic;               ///< sensor_msgs/Imu, subscribed when the prior needs it
     bool needs_imu = false;
-    std::string tf_from_frame = "odom";
+    std::string tf_from_frame = "odom";  ///< REP 105's odom frame: /doppler_odom's
+    std::string map_frame = "map";       ///< REP 105's map frame: /dorado/map_odom's, map -> odom
     std::string tf_to_frame = "base_link";
     bool publish_tf = true;
     /// The pose of tf_to_frame at the first scan (the paper's initial_pose).

@@ -129,15 +129,33 @@ class Recorder:
         self.messages = {t: [] for t in topics}
         self.subs = [rospy.Subscriber(t, Odometry, self._on, callback_args=t, queue_size=10000)
                      for t in topics]
+        # TF as tf2 composes it: every /tf transform into a fresh buffer per run (clear()).
+        import tf2_ros
+        from tf2_msgs.msg import TFMessage
+        self._tf2_ros = tf2_ros
+        self.tf = tf2_ros.Buffer(cache_time=rospy.Duration(3600))
+        self.tf_sub = rospy.Subscriber("/tf", TFMessage, self._on_tf, queue_size=10000)
 
     def _on(self, msg, topic):
         p, q = msg.pose.pose.position, msg.pose.pose.orientation
         self.messages[topic].append((msg.header.stamp.to_nsec(), (p.x, p.y, p.z, q.x, q.y, q.z, q.w),
                                      tuple(msg.pose.covariance), tuple(msg.twist.covariance)))
 
+    def _on_tf(self, msg):
+        for t in msg.transforms:
+            self.tf.set_transform(t, "dorado_test_recorder")
+
+    def lookup(self, target, source, stamp_ns):
+        """The pose of `source` in `target` at the stamp, composed by tf2 (x y z qx qy qz qw)."""
+        import rospy
+        t = self.tf.lookup_transform(target, source, rospy.Time(0, stamp_ns)).transform
+        return (t.translation.x, t.translation.y, t.translation.z,
+                t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w)
+
     def clear(self):
         for t in self.messages:
             self.messages[t] = []
+        self.tf = self._tf2_ros.Buffer(cache_time=__import__("rospy").Duration(3600))
 
     def connected(self, topics):
         return all(s.get_num_connections() > 0 for s in self.subs if s.name in topics)

@@ -11,6 +11,8 @@ import subprocess
 import sys
 import unittest
 
+import numpy as np
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import ros_harness as h  # noqa: E402
 
@@ -147,6 +149,18 @@ class DoradoRos(unittest.TestCase):
         # The covariances are filled in: the pose's grows, the twist's is positive.
         self.assertGreater(odom[-1][2][0], odom[1][2][0])
         self.assertGreater(min(odom[-1][3][i * 7] for i in range(6)), 0.0)
+        # REP 105: map -> odom -> base_link, composed by tf2 from /tf, is /dorado/map_odom's pose;
+        # its pose covariance is the mapper's (positive definite after the first scan).
+        composed = [(stamp, self.recorder.lookup("map", "base_link", stamp), (), ())
+                    for stamp, _, _, _ in mapped]
+        dp, dq, missing = max_difference(composed, {m[0]: m[1] for m in mapped})
+        print(f"1x: tf2 map -> base_link vs /dorado/map_odom: max |dp| {dp:.2e} m, |dq| {dq:.2e}")
+        self.assertEqual(missing, 0)
+        self.assertLess(dp, 1e-6)
+        self.assertLess(dq, 1e-6)
+        for _, _, pose_cov, _ in mapped[1:]:
+            eig = np.linalg.eigvalsh(np.array(pose_cov).reshape(6, 6))
+            self.assertGreater(eig.min(), 0.0)
 
         summary, err = self.run_node("x5", self.bag, 5, ("/dorado/map_odom", "/doppler_odom"),
                                      mapper="true")

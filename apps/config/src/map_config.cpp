@@ -39,6 +39,9 @@ void ReadMapper(YamlSection s, mapping::MapperConfig &c) {
     s.Read("max_doppler_residuals", c.max_doppler_residuals);
     s.Read("refine_max_iterations", c.refine_max_iterations);
     s.Read("refine_outer_iterations", c.refine_outer_iterations);
+    s.ReadParsed("registration_covariance", c.registration_covariance,
+                 mapping::ParseRegistrationCovarianceModel);
+    s.Read("registration_cluster_m", c.registration_cluster_m);
     YamlSection window = s.Child("window");
     window.Read("size", c.window.size);
     window.ReadVector3("qc_linear", c.window.qc_linear);
@@ -54,6 +57,8 @@ void ReadMapper(YamlSection s, mapping::MapperConfig &c) {
     s.Read("max_prior_mahalanobis_squared", c.max_prior_mahalanobis_squared);
     s.Read("registration_sigma_translation_m", c.registration_sigma_translation_m);
     s.Read("registration_sigma_rotation_rad", c.registration_sigma_rotation_rad);
+    s.Read("registration_floor_sigma_translation_m", c.registration_floor_sigma_translation_m);
+    s.Read("registration_floor_sigma_rotation_rad", c.registration_floor_sigma_rotation_rad);
     s.RejectUnknownKeys();
 }
 

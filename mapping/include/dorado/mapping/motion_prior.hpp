@@ -51,6 +51,13 @@ struct MotionPrior {
     std::string source;  ///< "none", "constvel", "imu", "doppler", "imu+doppler" (for reports)
 };
 
+/// Whether the prior was built from the Doppler ego-velocity (`doppler`, `imu+doppler`): the
+/// mapper's Doppler residuals would then count the same points a second time.
+[[nodiscard]] inline bool CarriesDoppler(const MotionPrior &prior) {
+    return prior.source == ToString(PriorKind::kDoppler) ||
+           prior.source == ToString(PriorKind::kImuDoppler);
+}
+
 /// Velocity of the base frame, expressed in the base frame, with its covariance (as the Doppler
 /// odometry's kinematic model gives it, paper eq. 6-7 and 9).
 struct BaseTwist {

@@ -23,6 +23,16 @@ enum class RegistrationMethod { kPointToPoint, kPointToPlane, kGicp };
 /// over the last window.size scans (window_smoother.hpp).
 enum class Refinement { kNone, kCeres, kWindow };
 enum class RobustKernel { kNone, kHuber, kCauchy, kTukey };
+/// How the registration's information about the pose is counted when it is fused with the prior
+/// (configs/mapper.yaml, registration_covariance):
+///   kIndependent: every point residual an independent measurement of the per-point noise model
+///                 (sum of J^T W J): hundreds of correlated residuals, over-counted;
+///   kResidualScale: the same, scaled by the residuals' own variance per scan;
+///   kClustered: the cluster-robust (sandwich) covariance H^-1 (sum_c g_c g_c^T) H^-1 with the
+///               residuals grouped by the map cell they fall in (registration_cluster_m): residuals
+///               of one cell share their surface's error and count as one.
+/// Each adds the floor diag(registration_floor_sigma_translation_m^2, ..._rotation_rad^2).
+enum class RegistrationCovarianceModel { kIndependent, kResidualScale, kClustered };
 
 /// Every default is explained in configs/mapper.yaml.
 struct MapperConfig {
@@ -59,6 +69,9 @@ struct MapperConfig {
     int max_doppler_residuals = 150;
     int refine_max_iterations = 5;
     int refine_outer_iterations = 1;  ///< re-associate and refine this many times
+    /// How the registration's information is counted against the prior (see the enum).
+    RegistrationCovarianceModel registration_covariance = RegistrationCovarianceModel::kClustered;
+    double registration_cluster_m = 4.0;  ///< cell of the clustered model's groups
     WindowConfig window;              ///< refinement = kWindow
 
     // When registration is not trusted and the pose falls back to the prior.
@@ -69,6 +82,10 @@ struct MapperConfig {
     double max_prior_mahalanobis_squared = 25.0;
     double registration_sigma_translation_m = 0.1;
     double registration_sigma_rotation_rad = 0.01;
+    /// The registration's own noise that no scan's residuals show (the map's error, shared by all
+    /// of a scan's matches): added to the registration's covariance, per axis (1 sigma).
+    double registration_floor_sigma_translation_m = 0.03;
+    double registration_floor_sigma_rotation_rad = 0.003;
     double min_observability = 0.004;
 
     /// Throws std::invalid_argument naming the first bad key.
@@ -87,6 +104,21 @@ struct StageTimes {
 
 struct RegistrationResult {
     Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
+    /// Covariance of T_world_base given the map and the previous pose (both fixed), as the
+    /// right perturbation xi = [rho; phi] in the base frame (T_true = T_world_base ExpSE3(xi),
+    /// MotionPrior's convention): the fused information of the prior, the registration and the
+    /// Doppler residuals. The prior's covariance on a fallback; zero on the first scan (the map's
+    /// origin). It is the uncertainty of this scan's motion relative to the map and the previous
+    /// pose, not the accumulated drift of the map.
+    Matrix6d covariance = Matrix6d::Zero();
+    /// The registration alone (PCL + its own Ceres minimum, no prior, no Doppler) and its
+    /// covariance by registration_covariance: the fused pose's other input, for comparison.
+    /// registration_valid is false on the first scan, on a fallback, and with refinement none.
+    bool registration_valid = false;
+    Eigen::Isometry3d T_world_base_registration = Eigen::Isometry3d::Identity();
+    Matrix6d registration_covariance = Matrix6d::Zero();
+    double registration_residual_scale = 0.0;  ///< whitened residual RMS (1 = the noise model)
+    int registration_clusters = 0;             ///< independent groups (clustered model)
     bool first_scan = false;      ///< the map was empty: the pose is the prior and starts the map
     bool fallback = false;        ///< registration not trusted: the pose is the prior
     std::string fallback_reason;  ///< why (empty when registered)
@@ -146,5 +178,9 @@ class RadarMapper {
 [[nodiscard]] RegistrationMethod ParseRegistrationMethod(const std::string &name);
 /// Parse "none" | "huber" | "cauchy" | "tukey"; throws std::invalid_argument.
 [[nodiscard]] RobustKernel ParseRobustKernel(const std::string &name);
+/// "independent" | "residual_scale" | "clustered".
+[[nodiscard]] const char *ToString(RegistrationCovarianceModel model);
+/// The inverse of ToString(RegistrationCovarianceModel); throws std::invalid_argument.
+[[nodiscard]] RegistrationCovarianceModel ParseRegistrationCovarianceModel(const std::string &name);
 
 }  // namespace dorado::mapping
