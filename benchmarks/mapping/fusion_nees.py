@@ -125,7 +125,7 @@ class Truth:
         return T
 
 
-def read_covariance_csv(path):
+def read_covariance_csv(path, scale=1.0):
     rows = []
     with open(path) as f:
         for row in csv.DictReader(f):
@@ -138,7 +138,7 @@ def read_covariance_csv(path):
                 for i in range(6):
                     for j in range(i, 6):
                         C[i, j] = C[j, i] = float(row[f"{source}_c_{AXES[i]}_{AXES[j]}"])
-                entry[source] = (T, C)
+                entry[source] = (T, scale * C)
             rows.append(entry)
     return rows
 
@@ -198,6 +198,8 @@ def main():
     ap.add_argument("--name", action="append", help="a label per run")
     ap.add_argument("--scan-rate-hz", type=float, default=10.0, help="frames per second for the 1 s NEES")
     ap.add_argument("--check-fused-nees", nargs=2, type=float, metavar=("LO", "HI"))
+    ap.add_argument("--scale-covariance", type=float, default=1.0,
+                    help="multiply every covariance read (a test shows that a wrong scale fails the gate)")
     args = ap.parse_args()
     if len(args.truth) != len(args.run):
         sys.exit("fusion_nees.py: give one --truth per --run")
@@ -210,7 +212,7 @@ def main():
     ok = True
     for truth_path, run, name in zip(args.truth, args.run, names):
         truth = Truth(truth_path)
-        rows = read_covariance_csv(run.rstrip("/") + "/covariance.csv")
+        rows = read_covariance_csv(run.rstrip("/") + "/covariance.csv", args.scale_covariance)
         err, ne, ne_1s = score(truth, rows, n_1s)
         N = len(ne["fused"])
         if N == 0:

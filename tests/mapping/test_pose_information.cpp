@@ -1,0 +1,137 @@
+// The registration's covariance (pose_information.hpp) against independent truths: the right-
+// perturbation lift against numeric differences, the independent model against a Monte Carlo of
+// least-squares registrations with known noise, and the clustered model counting residuals that
+// share one error as one measurement.
+#include <ceres/loss_function.h>
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "dorado/core/lie.hpp"
+#include "dorado/mapping/radar_mapper.hpp"
+#include "pose_information.hpp"
+
+namespace dorado::mapping {
+namespace {
+
+// Points spread in a box around the sensor, each a match to itself at the true pose (identity).
+std::vector<Eigen::Vector3d> Points(int n, std::mt19937 &rng) {
+    std::uniform_real_distribution<double> u(-20.0, 20.0);
+    std::vector<Eigen::Vector3d> points;
+    for (int i = 0; i < n; ++i) points.emplace_back(u(rng), u(rng), 0.2 * u(rng));
+    return points;
+}
+
+TEST(PoseInformation, LiftIsTheDerivativeOfTheRightPerturbation) {
+    const Eigen::Isometry3d T = ExpSE3((Vector6d() << 1.0, -2.0, 0.5, 0.3, -0.2, 0.9).finished());
+    const Eigen::Quaterniond q(T.linear());
+    const Eigen::Matrix<double, 7, 6> lift = RightPerturbationLift(q);
+    const double h = 1e-7;
+    for (int k = 0; k < 6; ++k) {
+        Vector6d xi = Vector6d::Zero();
+        xi(k) = h;
+        const Eigen::Isometry3d Tp = T * ExpSE3(xi);
+        Eigen::Quaterniond qp(Tp.linear());
+        if (qp.coeffs().dot(q.coeffs()) < 0) qp.coeffs() *= -1.0;
+        Eigen::Matrix<double, 7, 1> d;
+        d << (Tp.translation() - T.translation()) / h, (qp.coeffs() - q.coeffs()) / h;
+        EXPECT_LT((d - lift.col(k)).norm(), 1e-5) << "column " << k;
+    }
+}
+
+// Registration by linearised least squares with independent isotropic noise sigma: its covariance
+// is sigma^2 (J^T J)^-1 exactly; the independent model (whitened by 1/sigma) must match the
+// Monte Carlo covariance of the estimates (NEES mean 6 within sampling error), and a covariance 4x
+// off would not.
+TEST(PoseInformation, IndependentModelMatchesMonteCarlo) {
+    std::mt19937 rng(7);
+    const double sigma = 0.3;
+    const std::vector<Eigen::Vector3d> points = Points(200, rng);
+    MapperConfig config;
+    config.registration_covariance = RegistrationCovarianceModel::kIndependent;
+    config.registration_floor_sigma_translation_m = 0.0;
+    config.registration_floor_sigma_rotation_rad = 0.0;
+    std::vector<Correspondence> matches;
+    for (const auto &p : points)
+        matches.push_back({p, p, Eigen::Matrix3d::Identity() / sigma});
+    const RegistrationCovarianceResult model =
+        RegistrationCovariance(Eigen::Isometry3d::Identity(), matches, nullptr, config);
+    ASSERT_TRUE(model.valid);
+
+    // Monte Carlo: noisy map points, the Gauss-Newton estimate xi = (J^T J)^-1 J^T e.
+    std::normal_distribution<double> n(0.0, sigma);
+    Eigen::Matrix<double, 6, 6> JtJ = Eigen::Matrix<double, 6, 6>::Zero();
+    std::vector<Eigen::Matrix<double, 3, 6>> J(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        J[i] << Eigen::Matrix3d::Identity(), -Hat(points[i]);
+        JtJ += J[i].transpose() * J[i];
+    }
+    double nees = 0.0;
+    const int trials = 400;
+    for (int t = 0; t < trials; ++t) {
+        Vector6d b = Vector6d::Zero();
+        for (std::size_t i = 0; i < points.size(); ++i)
+            b += J[i].transpose() * Eigen::Vector3d(n(rng), n(rng), n(rng));
+        const Vector6d xi = JtJ.ldlt().solve(b);
+        nees += xi.dot(model.covariance.ldlt().solve(xi)) / trials;
+    }
+    // 400 x 6 dof: the mean's 95 % band is about [5.67, 6.34].
+    EXPECT_GT(nees, 5.5);
+    EXPECT_LT(nees, 6.5);
+}
+
+// The same error shared by all residuals of a cluster: the clustered model must see that n copies
+// of one measurement are one, the independent model cannot.
+TEST(PoseInformation, ClusteredModelCountsSharedErrorsOnce) {
+    std::mt19937 rng(11);
+    const std::vector<Eigen::Vector3d> points = Points(40, rng);
+    std::normal_distribution<double> n(0.0, 0.3);
+    std::vector<Correspondence> matches;
+    for (const auto &p : points) {
+        const Eigen::Vector3d shared(n(rng), n(rng), n(rng));  // the cluster's error
+        for (int copy = 0; copy < 10; ++copy)                    // 10 residuals see it
+            matches.push_back({p, p + shared, Eigen::Matrix3d::Identity() / 0.3});
+    }
+    MapperConfig config;
+    config.registration_floor_sigma_translation_m = 0.0;
+    config.registration_floor_sigma_rotation_rad = 0.0;
+    config.registration_cluster_m = 0.01;  // each point its own cell: one cluster per point
+    config.registration_covariance = RegistrationCovarianceModel::kIndependent;
+    const auto independent =
+        RegistrationCovariance(Eigen::Isometry3d::Identity(), matches, nullptr, config);
+    config.registration_covariance = RegistrationCovarianceModel::kClustered;
+    const auto clustered =
+        RegistrationCovariance(Eigen::Isometry3d::Identity(), matches, nullptr, config);
+    ASSERT_TRUE(independent.valid && clustered.valid);
+    EXPECT_EQ(clustered.clusters, 40);
+    // Ten copies: the honest covariance is ~10x the independent one (within the sandwich's
+    // sampling error over 40 clusters).
+    const double ratio = clustered.covariance.trace() / independent.covariance.trace();
+    EXPECT_GT(ratio, 5.0);
+    EXPECT_LT(ratio, 20.0);
+}
+
+TEST(PoseInformation, FloorIsAddedAndTooFewMatchesAreInvalid) {
+    MapperConfig config;
+    config.registration_covariance = RegistrationCovarianceModel::kIndependent;
+    std::mt19937 rng(3);
+    std::vector<Correspondence> matches;
+    for (const auto &p : Points(100, rng)) matches.push_back({p, p, Eigen::Matrix3d::Identity()});
+    const auto with_floor =
+        RegistrationCovariance(Eigen::Isometry3d::Identity(), matches, nullptr, config);
+    config.registration_floor_sigma_translation_m = 0.0;
+    config.registration_floor_sigma_rotation_rad = 0.0;
+    const auto without =
+        RegistrationCovariance(Eigen::Isometry3d::Identity(), matches, nullptr, config);
+    const MapperConfig defaults;
+    EXPECT_NEAR(with_floor.covariance(0, 0) - without.covariance(0, 0),
+                std::pow(defaults.registration_floor_sigma_translation_m, 2), 1e-12);
+    EXPECT_NEAR(with_floor.covariance(5, 5) - without.covariance(5, 5),
+                std::pow(defaults.registration_floor_sigma_rotation_rad, 2), 1e-12);
+    matches.resize(2);
+    EXPECT_FALSE(
+        RegistrationCovariance(Eigen::Isometry3d::Identity(), matches, nullptr, config).valid);
+}
+
+}  // namespace
+}  // namespace dorado::mapping
