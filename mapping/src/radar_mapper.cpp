@@ -126,7 +126,11 @@ struct RadarMapper::State {
     LocalMap map;
     AdaptiveThreshold threshold;
     bool has_pose = false;
+    /// Two chains of poses (refinement ceres): the output (the prior's chain, pulled toward the map
+    /// by the registration's honest weight) and the map's (the registered poses, locked to the map
+    /// by the registration's residuals, which the map is built from). One chain otherwise.
     Eigen::Isometry3d T_world_base_last = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_map_base_last = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d T_world_base_last_keyframe = Eigen::Isometry3d::Identity();
     int fallbacks = 0;
     std::optional<WindowSmoother> window;        ///< refinement = kWindow
@@ -148,11 +152,13 @@ struct RadarMapper::State {
     }
 
     void RegisterToMap(const Eigen::Matrix3Xd &source_base,
-                       const std::vector<DopplerObservation> &doppler, const MotionPrior &prior,
-                       double dt_s, RegistrationResult &result);
+                       const std::vector<DopplerObservation> &doppler, const MotionPrior &prior_map,
+                       const MotionPrior &prior, double dt_s, RegistrationResult &result,
+                       Eigen::Isometry3d &T_map);
     void Refine(const Eigen::Matrix3Xd &source_base,
-                const std::vector<DopplerObservation> &doppler_all, const MotionPrior &prior,
-                double dt_s, Association association, RegistrationResult &result) const;
+                const std::vector<DopplerObservation> &doppler_all, const MotionPrior &prior_map,
+                const MotionPrior &prior, double dt_s, Association association,
+                RegistrationResult &result, Eigen::Isometry3d &T_map) const;
     Eigen::Isometry3d SmoothWindow(const std::vector<DopplerObservation> &doppler,
                                    const MotionPrior &prior, double dt_s,
                                    const Eigen::Vector3d *gyro_base_radps,
@@ -211,14 +217,15 @@ std::string CheckRegistration(const PclAlignment &aligned, const Association &as
 
 }  // namespace
 
-// Doppler-aware refinement (Ceres): the registration alone, then its fusion with the prior and the
-// Doppler residuals by their information, re-associating refine_outer_iterations times. Starts from
-// and updates result.T_world_base and its covariance. The Doppler residuals join only when the
-// prior was not built from the same Doppler velocity (counted once).
+// Doppler-aware refinement (Ceres), re-associating refine_outer_iterations times from T_map (the
+// registered pose, updated): with ceres, the registered pose and the output fused from it
+// (RefinePose); with none and window, the registration alone gives the covariance. The Doppler
+// residuals join only when the prior was not built from the same Doppler velocity (counted once).
 void RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
                                 const std::vector<DopplerObservation> &doppler_all,
-                                const MotionPrior &prior, double dt_s, Association association,
-                                RegistrationResult &result) const {
+                                const MotionPrior &prior_map, const MotionPrior &prior,
+                                double dt_s, Association association, RegistrationResult &result,
+                                Eigen::Isometry3d &T_map) const {
     const std::vector<DopplerObservation> doppler =
         (config.use_doppler && has_pose && !CarriesDoppler(prior))
             ? Thin(doppler_all, config.max_doppler_residuals)
@@ -226,18 +233,18 @@ void RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
     result.doppler_residuals = static_cast<int>(doppler.size());
     for (int outer = 0; outer < config.refine_outer_iterations; ++outer) {
         if (outer > 0)
-            association = Associate(source_base, result.T_world_base, map, config,
-                                    result.threshold_m, config.max_registration_residuals);
+            association = Associate(source_base, T_map, map, config, result.threshold_m,
+                                    config.max_registration_residuals);
         if (association.count < config.min_correspondences) break;
-        RefinementInput input{
-            result.T_world_base,     &prior, &association.matches, &doppler, T_world_base_last,
-            extrinsics.T_base_radar, dt_s};
-        const RefinementOutput refined = config.refinement == Refinement::kCeres
-                                             ? RefinePose(input, config)
-                                             : RegisterAlone(input, config);
+        const RefinementInput input{T_map,           &prior_map,       &association.matches,
+                                    &doppler,        T_map_base_last,  extrinsics.T_base_radar,
+                                    dt_s,            &prior,           T_world_base_last};
+        const bool ceres = config.refinement == Refinement::kCeres;
+        const RefinementOutput refined = ceres ? RefinePose(input, config) : RegisterAlone(input, config);
         KeepRegistration(refined, result);
         if (!refined.usable) break;
-        if (config.refinement == Refinement::kCeres) {
+        if (ceres) {
+            T_map = refined.T_world_base_registration;
             result.T_world_base = refined.T_world_base;
             result.covariance = refined.covariance;
         } else {  // none: PCL's pose; the window smoother's covariance is set after it
@@ -280,11 +287,12 @@ Eigen::Isometry3d RadarMapper::State::SmoothWindow(const std::vector<DopplerObse
 // result.T_world_base at the prior with a fallback reason when registration is not trusted.
 void RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source_base,
                                        const std::vector<DopplerObservation> &doppler,
-                                       const MotionPrior &prior, double dt_s,
-                                       RegistrationResult &result) {
+                                       const MotionPrior &prior_map, const MotionPrior &prior,
+                                       double dt_s, RegistrationResult &result,
+                                       Eigen::Isometry3d &T_map) {
     const auto t_reg = Clock::now();
     const PclAlignment aligned =
-        AlignWithPcl(source_base, prior.T_world_base, map, config, result.threshold_m);
+        AlignWithPcl(source_base, prior_map.T_world_base, map, config, result.threshold_m);
     result.times.alignment_ms = MillisecondsSince(t_reg);
     const Association association =
         Associate(source_base, aligned.T_world_base, map, config, result.threshold_m,
@@ -293,7 +301,7 @@ void RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source_base,
     result.fitness_rms_m = association.rms_m;
     result.observability = association.observability;
     result.prior_mahalanobis_squared =
-        PriorMahalanobisSquared(WidenedPrior(prior, config), aligned.T_world_base);
+        PriorMahalanobisSquared(WidenedPrior(prior_map, config), aligned.T_world_base);
     result.times.registration_ms = MillisecondsSince(t_reg);
 
     result.fallback_reason = CheckRegistration(aligned, association, result, config);
@@ -301,13 +309,14 @@ void RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source_base,
         result.fallback = true;
         return;
     }
-    result.T_world_base = aligned.T_world_base;
+    T_map = aligned.T_world_base;
+    if (config.refinement != Refinement::kCeres) result.T_world_base = aligned.T_world_base;
     if (config.refinement == Refinement::kWindow) window_matches = association.matches;
     const auto t_refine = Clock::now();
-    Refine(source_base, doppler, prior, dt_s, association, result);
+    Refine(source_base, doppler, prior_map, prior, dt_s, association, result, T_map);
     result.times.refinement_ms = MillisecondsSince(t_refine);
     // kiss-icp: the threshold adapts to how far registration corrected the prior.
-    threshold.Update(prior.T_world_base.inverse() * result.T_world_base);
+    threshold.Update(prior_map.T_world_base.inverse() * T_map);
 }
 
 RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const MotionPrior &prior,
@@ -338,17 +347,24 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
     result.source_points = static_cast<int>(source_base.cols());
     result.times.preprocess_ms = MillisecondsSince(t_start);
 
-    // 2-3. Registration and refinement, or the prior.
+    // 2-3. Registration and refinement, or the prior. The prior moved onto the map's chain: the
+    //      same motion from the map's previous pose.
+    MotionPrior prior_map = prior;
+    if (s.has_pose)
+        prior_map.T_world_base =
+            s.T_map_base_last * s.T_world_base_last.inverse() * prior.T_world_base;
+    Eigen::Isometry3d T_map = prior_map.T_world_base;
     if (s.map.empty()) {
         result.first_scan = true;  // the first scan starts the map at the prior
     } else if (result.source_points < config.min_correspondences) {
         result.fallback = true;
         result.fallback_reason = "too few points (" + std::to_string(result.source_points) + ")";
     } else {
-        s.RegisterToMap(source_base, points.doppler, prior, dt_s, result);
+        s.RegisterToMap(source_base, points.doppler, prior_map, prior, dt_s, result, T_map);
     }
     if (result.fallback) {
         result.T_world_base = prior.T_world_base;
+        T_map = prior_map.T_world_base;
         result.covariance = prior.covariance;
         result.registration_valid = false;
         ++s.fallbacks;
@@ -364,13 +380,14 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
                 CovarianceFromInformation(prior.covariance) +
                 CovarianceFromInformation(result.registration_covariance));
     }
+    if (config.refinement != Refinement::kCeres) T_map = result.T_world_base;  // one chain
 
     // 4. Map update (keyframes only, when configured).
     const auto t_map = Clock::now();
     if ((!result.fallback || config.update_map_on_fallback) &&
-        (s.map.empty() || s.IsKeyframe(result.T_world_base))) {
-        s.map.Update(result.T_world_base * points.p_base, result.T_world_base.translation());
-        s.T_world_base_last_keyframe = result.T_world_base;
+        (s.map.empty() || s.IsKeyframe(T_map))) {
+        s.map.Update(T_map * points.p_base, T_map.translation());
+        s.T_world_base_last_keyframe = T_map;
         s.map.BuildIndex();  // the kd-tree is part of the map update's cost
         result.map_updated = true;
     }
@@ -378,6 +395,7 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
     result.local_map_points = s.map.size();
 
     s.T_world_base_last = result.T_world_base;
+    s.T_map_base_last = T_map;
     s.has_pose = true;
     result.times.total_ms = MillisecondsSince(t_start);
     return result;

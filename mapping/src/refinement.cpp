@@ -64,6 +64,19 @@ ceres::Problem::Options ProblemOptions() {
     options.manifold_ownership = ceres::TAKE_OWNERSHIP;
     return options;
 }
+// The Doppler residuals of the static points, sharing one velocity of the pose since T_prev.
+void AddDoppler(ceres::Problem &problem, const RefinementInput &input,
+                const Eigen::Isometry3d &T_world_base_prev, const MapperConfig &config,
+                const ceres::LossFunction *loss, PoseBlocks &pose) {
+    if (input.doppler == nullptr || input.doppler->empty()) return;
+    const auto velocity =
+        std::make_shared<SharedRadarVelocity>(input.T_base_radar, T_world_base_prev, input.dt_s);
+    for (const auto &d : *input.doppler)
+        problem.AddResidualBlock(
+            new DopplerError(d.d_radar, d.doppler_mps, velocity, config.doppler_sigma_mps),
+            const_cast<ceres::LossFunction *>(loss), pose.t.data(), pose.q.coeffs().data());
+}
+
 }  // namespace
 
 RefinementOutput RegisterAlone(const RefinementInput &input, const MapperConfig &config) {
@@ -92,49 +105,65 @@ RefinementOutput RegisterAlone(const RefinementInput &input, const MapperConfig 
     return out;
 }
 
-RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &config) {
-    // 1. The registration alone, with its covariance.
-    RefinementOutput out = RegisterAlone(input, config);
-    out.usable = false;
-    if (!out.registration_valid) {
-        out.T_world_base = input.T_world_base_initial;
-        return out;
-    }
-    // 2. Its fusion with the prior (a Gaussian: no robust loss, its covariance says how much) and
-    //    the Doppler residuals, each by its information: the registration enters as one 6-DoF
-    //    measurement of the pose, so its hundreds of residuals count only as much as they show.
-    const auto doppler_loss = MakeLoss(config.kernel, config.kernel_scale);
-    PoseBlocks pose(out.T_world_base_registration);
+namespace {
+
+// Step 1: registration + Doppler + prior residuals on the map's chain (the refinement of the
+// previous releases, whose registered poses keep the map consistent).
+bool RegisterJointly(const RefinementInput &input, const MapperConfig &config,
+                     const ceres::LossFunction *loss, PoseBlocks &pose, int &iterations) {
     ceres::Problem problem(ProblemOptions());
+    for (const auto &m : *input.matches)
+        problem.AddResidualBlock(RegistrationError::Create(m.p_base, m.q_world, m.sqrt_information),
+                                 const_cast<ceres::LossFunction *>(loss), pose.t.data(),
+                                 pose.q.coeffs().data());
+    AddDoppler(problem, input, input.T_world_base_prev, config, loss, pose);
     problem.AddResidualBlock(PriorError::Create(input.prior->T_world_base,
                                                 InverseCholeskyFactor<6>(input.prior->covariance)),
                              nullptr, pose.t.data(), pose.q.coeffs().data());
+    return Solve(problem, pose, config, iterations);
+}
+
+}  // namespace
+
+RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &config) {
+    RefinementOutput out;
+    out.T_world_base = input.T_world_base_initial;
+    const auto loss = MakeLoss(config.kernel, config.kernel_scale);
+    // 1. The registered pose and its covariance.
+    PoseBlocks registered(input.T_world_base_initial);
+    if (!RegisterJointly(input, config, loss.get(), registered, out.iterations)) return out;
+    const RegistrationCovarianceResult covariance =
+        RegistrationCovariance(registered.Pose(), *input.matches, loss.get(), config);
+    out.registration_residual_scale = covariance.residual_scale;
+    out.registration_clusters = covariance.clusters;
+    if (!covariance.valid) return out;
+    out.registration_valid = true;
+    out.T_world_base_registration = registered.Pose();
+    out.registration_covariance = covariance.covariance;
+
+    // 2. The output: its prior (a Gaussian: no robust loss) fused with the registered pose as one
+    //    6-DoF measurement, so that the registration's hundreds of residuals count only as much as
+    //    they show, and the Doppler residuals (none when the prior carries them).
+    const MotionPrior &prior = *input.prior_output;
+    PoseBlocks pose(prior.T_world_base);
+    ceres::Problem problem(ProblemOptions());
+    problem.AddResidualBlock(
+        PriorError::Create(prior.T_world_base, InverseCholeskyFactor<6>(prior.covariance)), nullptr,
+        pose.t.data(), pose.q.coeffs().data());
     problem.AddResidualBlock(PriorError::Create(out.T_world_base_registration,
                                                 InverseCholeskyFactor<6>(out.registration_covariance)),
                              nullptr, pose.t.data(), pose.q.coeffs().data());
-    const bool with_doppler = input.doppler != nullptr && !input.doppler->empty();
-    if (with_doppler) {
-        const auto velocity = std::make_shared<SharedRadarVelocity>(
-            input.T_base_radar, input.T_world_base_prev, input.dt_s);
-        for (const auto &d : *input.doppler) {
-            problem.AddResidualBlock(
-                new DopplerError(d.d_radar, d.doppler_mps, velocity, config.doppler_sigma_mps),
-                doppler_loss.get(), pose.t.data(), pose.q.coeffs().data());
-        }
-    }
-    if (!Solve(problem, pose, config, out.iterations)) {
-        out.T_world_base = input.T_world_base_initial;
-        return out;
-    }
+    AddDoppler(problem, input, input.T_world_base_prev_output, config, loss.get(), pose);
+    if (!Solve(problem, pose, config, out.iterations)) return out;
     out.usable = true;
     out.T_world_base = pose.Pose();
-    // The fused covariance: the inputs' informations summed (first order at the solution).
-    Matrix6d information = CovarianceFromInformation(input.prior->covariance) +
+    // The output's covariance: the inputs' informations summed (first order at the solution).
+    Matrix6d information = CovarianceFromInformation(prior.covariance) +
                            CovarianceFromInformation(out.registration_covariance);
-    if (with_doppler)
+    if (input.doppler != nullptr)
         information += DopplerInformation(out.T_world_base, *input.doppler,
-                                          input.T_world_base_prev, input.T_base_radar, input.dt_s,
-                                          doppler_loss.get(), config);
+                                          input.T_world_base_prev_output, input.T_base_radar,
+                                          input.dt_s, loss.get(), config);
     out.covariance = CovarianceFromInformation(information);
     return out;
 }

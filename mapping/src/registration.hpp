@@ -57,12 +57,18 @@ struct DopplerObservation {
 
 struct RefinementInput {
     Eigen::Isometry3d T_world_base_initial;
+    /// The prior on the map's chain of poses (the registered poses the map is built from) and
+    /// that chain's previous pose (T_world_base_prev).
     const MotionPrior *prior = nullptr;
     const std::vector<Correspondence> *matches = nullptr;
     const std::vector<DopplerObservation> *doppler = nullptr;  ///< may be empty
     Eigen::Isometry3d T_world_base_prev;
     Eigen::Isometry3d T_base_radar;
     double dt_s = 0.1;
+    /// The prior on the output's chain (the smooth one: the odometry pulled toward the map) and its
+    /// previous pose. RefinePose fuses the registered pose into it.
+    const MotionPrior *prior_output = nullptr;
+    Eigen::Isometry3d T_world_base_prev_output;
 };
 
 struct RefinementOutput {
@@ -83,9 +89,13 @@ struct RefinementOutput {
 [[nodiscard]] RefinementOutput RegisterAlone(const RefinementInput &input,
                                              const MapperConfig &config);
 
-/// The refinement of the new pose in two steps: the registration alone (its residuals, robust
-/// loss) with its covariance, then its fusion with the prior and, when the prior does not already
-/// carry them, the Doppler residuals, each weighted by its information. refinement.cpp.
+/// The refinement of the new pose in two steps. 1. The registered pose that the map is built from:
+/// registration + Doppler + prior residuals jointly (the registration's residuals at their per-point
+/// weight, which locks the pose to the map), and its covariance by registration_covariance.
+/// 2. The output pose: the output chain's prior fused with that registered pose as one 6-DoF
+/// measurement (and the Doppler residuals when the prior does not carry them), each by its
+/// information. T_world_base is the output, T_world_base_registration the registered pose.
+/// refinement.cpp.
 [[nodiscard]] RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &config);
 
 }  // namespace dorado::mapping

@@ -7,9 +7,9 @@ set -euo pipefail
 DORADO=$1 NEES=$2
 dir=$(mktemp -d /tmp/dorado_cov_XXXXXX)
 trap 'rm -rf "$dir"' EXIT
-"$DORADO" simulate --sequence seq07 --duration 20 --seed 77 --out "$dir/sim" 2>/dev/null
+"$DORADO" simulate --sequence seq08 --duration 20 --seed 8 --out "$dir/sim" 2>/dev/null
 "$DORADO" map "$dir/sim/dataset.yaml" --prior doppler --out "$dir/map" 2>/dev/null
-run=(/usr/bin/python3 "$NEES" --truth "$dir/sim/true_trajectory.tum" --run "$dir/map" --name seq07_s77)
+run=(/usr/bin/python3 "$NEES" --truth "$dir/sim/true_trajectory.tum" --run "$dir/map" --name seq08_20s)
 "${run[@]}" --check-fused-nees 3 12
 for scale in 4 0.25 0; do
   if "${run[@]}" --scale-covariance "$scale" --check-fused-nees 3 12 >/dev/null 2>&1; then

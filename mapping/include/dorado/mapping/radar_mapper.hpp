@@ -111,9 +111,11 @@ struct RegistrationResult {
     /// origin). It is the uncertainty of this scan's motion relative to the map and the previous
     /// pose, not the accumulated drift of the map.
     Matrix6d covariance = Matrix6d::Zero();
-    /// The registration alone (PCL + its own Ceres minimum, no prior, no Doppler) and its
-    /// covariance by registration_covariance: the fused pose's other input, for comparison.
-    /// registration_valid is false on the first scan, on a fallback, and with refinement none.
+    /// The registered pose and its covariance by registration_covariance: the fused pose's other
+    /// input, for comparison. With refinement ceres it is the pose the map is built from
+    /// (registration, Doppler and prior residuals on the map's own chain of poses, locked to the
+    /// map); with none and window the registration alone. registration_valid is false on the first
+    /// scan and on a fallback.
     bool registration_valid = false;
     Eigen::Isometry3d T_world_base_registration = Eigen::Isometry3d::Identity();
     Matrix6d registration_covariance = Matrix6d::Zero();
