@@ -1,21 +1,18 @@
+// The benchmark report: results.csv, bench_runs.csv, rpe_pairs.csv and results.md from the runs
+// evaluated by bench_evaluate.cpp.
 #include "bench_report.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <iomanip>
 #include <limits>
 #include <map>
-#include <set>
 #include <sstream>
 
-#include "dorado/eval/absolute_trajectory_error.hpp"
 #include "dorado/eval/association.hpp"
 #include "dorado/io/atomic_file.hpp"
-#include "dorado/io/trajectory_io.hpp"
 
 namespace dorado::apps {
 
@@ -68,20 +65,6 @@ std::vector<double> Finite(const std::vector<double> &values) {
         if (std::isfinite(v)) out.push_back(v);
     }
     return out;
-}
-
-std::vector<int64_t> Intersect(const std::vector<int64_t> &a, const std::vector<int64_t> &b) {
-    std::vector<int64_t> out;
-    std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
-    return out;
-}
-
-// Mean time per scan from the run's own per-scan CSV.
-std::vector<double> TimePerScan(const BenchRun &run) {
-    if (run.kind == RunKind::kMap) {
-        return ReadCsvColumn((fs::path(run.job.out_dir) / "scans.csv").string(), "time_total_ms");
-    }
-    return ReadCsvColumn((fs::path(run.job.out_dir) / "velocities.csv").string(), "time_ms");
 }
 
 std::string Num(double value, int precision) {
@@ -179,238 +162,128 @@ std::string FormatSeconds(double seconds) {
     return os.str();
 }
 
-}  // namespace
-
-std::vector<double> ReadCsvColumn(const std::string &path, const std::string &column) {
-    std::ifstream in(path);
-    std::string line;
-    if (!in || !std::getline(in, line)) return {};
-    const auto split = [](const std::string &text) {
-        std::vector<std::string> cells;
-        std::stringstream ss(text);
-        for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
-        return cells;
-    };
-    const auto header = split(line);
-    const auto it = std::find(header.begin(), header.end(), column);
-    if (it == header.end()) return {};
-    const auto index = static_cast<std::size_t>(it - header.begin());
-    std::vector<double> values;
-    while (std::getline(in, line)) {
-        if (line.empty()) continue;
-        const auto cells = split(line);
-        double v = std::nan("");
-        if (index < cells.size()) {
-            try {
-                v = std::stod(cells[index]);
-            } catch (const std::exception &) {
-            }
-        }
-        values.push_back(v);
-    }
-    return values;
-}
-
-std::vector<RunEvaluation> EvaluateRuns(const std::vector<BenchRun> &runs,
-                                        const std::vector<JobOutcome> &outcomes,
-                                        const BenchConfig &config) {
-    eval::AssociationConfig association;
-    association.method = config.association;
-    association.max_gap_ns = static_cast<int64_t>(std::llround(config.association_max_gap_s * 1e9));
-    association.max_time_diff_ns = static_cast<int64_t>(std::llround(config.t_max_diff_s * 1e9));
-
-    std::vector<RunEvaluation> evaluations;
-    std::vector<eval::AssociatedPoses> associated;
-    std::map<std::string, Trajectory> ground_truths;
-    for (std::size_t r = 0; r < runs.size(); ++r) {
-        const BenchRun &run = runs[r];
-        if (run.kind == RunKind::kSimulate) continue;
-        RunEvaluation e;
-        e.sequence = run.sequence;
-        e.method = run.method;
-        e.kind = run.kind;
-        e.run_dir = run.job.out_dir;
-        e.ground_truth = run.ground_truth;
-        e.has_translation = run.has_translation;
-        associated.emplace_back();
-        const bool finished = outcomes[r].status == JobStatus::kSucceeded ||
-                              outcomes[r].status == JobStatus::kAlreadyDone;
-        if (!finished) {
-            e.note = "run failed: " + outcomes[r].message;
-            evaluations.push_back(std::move(e));
-            continue;
-        }
-        if (config.reference == BenchReference::kExact && !fs::exists(run.ground_truth)) {
-            // Data simulated before the simulator wrote its exact trajectory: the sequence's runs
-            // were made on that data, so they go too.
-            e.note = run.ground_truth + ": missing; delete " +
-                     fs::path(run.ground_truth).parent_path().string() + " and " +
-                     fs::path(run.job.out_dir).parent_path().string() +
-                     " to simulate and run it again";
-            evaluations.push_back(std::move(e));
-            continue;
-        }
-        try {
-            if (!ground_truths.count(run.ground_truth)) {
-                ground_truths[run.ground_truth] = io::ReadTum(run.ground_truth);
-            }
-            const Trajectory estimate =
-                io::ReadTum((fs::path(run.job.out_dir) / "trajectory.tum").string());
-            e.poses = estimate.size();
-            associated.back() =
-                eval::Associate(ground_truths[run.ground_truth], estimate, association);
-            e.matched = associated.back().size();
-            e.ok = e.matched >= 3;
-            if (!e.ok) e.note = "fewer than 3 poses have ground truth";
-        } catch (const std::exception &ex) {
-            e.note = ex.what();
-        }
-        e.time_per_scan_ms = TimePerScan(run);
-        evaluations.push_back(std::move(e));
-    }
-
-    // Common stamps per sequence, from the runs that cover at least half of the best one.
-    std::map<std::string, std::size_t> best;
-    for (const RunEvaluation &e : evaluations)
-        best[e.sequence] = std::max(best[e.sequence], e.matched);
-    std::map<std::string, std::vector<int64_t>> common;
-    for (std::size_t k = 0; k < evaluations.size(); ++k) {
-        const RunEvaluation &e = evaluations[k];
-        if (!e.ok || 2 * e.matched < best[e.sequence]) continue;
-        auto [it, first] = common.try_emplace(e.sequence, associated[k].stamps_ns);
-        if (!first) it->second = Intersect(it->second, associated[k].stamps_ns);
-    }
-
-    const eval::PairSelection per_frame{static_cast<double>(config.rpe_frame_delta),
-                                        eval::DeltaUnit::kFrames, 0.1};
-    const eval::PairSelection per_second{config.rpe_second_delta_s, eval::DeltaUnit::kSeconds, 0.1};
-    for (std::size_t k = 0; k < evaluations.size(); ++k) {
-        RunEvaluation &e = evaluations[k];
+// results.csv: statistics per sequence, method and metric, then over all sequences ("all").
+void WriteResultsCsv(std::ostream &os, const std::vector<RunEvaluation> &evaluations) {
+    os << "sequence,method,metric,unit,rmse,mean,median,std,min,max,count\n";
+    std::map<std::string, std::map<std::string, std::vector<double>>> pooled;
+    std::vector<std::string> methods;
+    for (const RunEvaluation &e : evaluations) {
         if (!e.ok) continue;
-        eval::AssociatedPoses poses = associated[k];
-        if (2 * e.matched >= best[e.sequence]) {
-            poses = eval::KeepStamps(poses, common[e.sequence]);
-        } else {
-            e.note = "scored on its own " + std::to_string(e.matched) +
-                     " stamps (the best run has " + std::to_string(best[e.sequence]) + ")";
+        if (std::find(methods.begin(), methods.end(), e.method) == methods.end()) {
+            methods.push_back(e.method);
         }
-        e.scored = poses.size();
-        if (e.scored < 3) {
-            e.ok = false;
-            e.note = "fewer than 3 poses in common with the other runs";
-            continue;
+        for (const Metric &metric : Metrics()) {
+            if (metric.needs_translation && !e.has_translation) continue;
+            WriteStatisticsRow(os, e.sequence, e.method, metric, metric.Of(e));
+            auto &all = pooled[e.method][metric.name];
+            all.insert(all.end(), metric.Of(e).begin(), metric.Of(e).end());
         }
-        e.rpe_frame = eval::ComputeRpe(poses, per_frame);
-        e.rpe_second = eval::ComputeRpe(poses, per_second);
-        if (e.has_translation) e.ate_m = eval::ComputeAte(poses).translation_m;
     }
-    return evaluations;
+    for (const std::string &method : methods) {
+        for (const Metric &metric : Metrics()) {
+            const auto it = pooled[method].find(metric.name);
+            if (it != pooled[method].end())
+                WriteStatisticsRow(os, "all", method, metric, it->second);
+        }
+    }
 }
+
+// bench_runs.csv: each run, its directory, ground truth, status and poses.
+void WriteRunsCsv(std::ostream &os, const std::vector<RunEvaluation> &evaluations) {
+    os << "sequence,method,run_dir,ground_truth,ok,poses,matched,scored,note\n";
+    for (const RunEvaluation &e : evaluations) {
+        std::string note = e.note;
+        std::replace(note.begin(), note.end(), ',', ';');
+        std::replace(note.begin(), note.end(), '\n', ' ');
+        os << e.sequence << ',' << e.method << ',' << e.run_dir << ',' << e.ground_truth << ','
+           << (e.ok ? 1 : 0) << ',' << e.poses << ',' << e.matched << ',' << e.scored << ',' << note
+           << '\n';
+    }
+}
+
+// rpe_pairs.csv: every RPE pair, for the box plots.
+void WriteRpePairsCsv(std::ostream &os, const std::vector<RunEvaluation> &evaluations) {
+    os << "sequence,method,delta_unit,t_i,t_j,translation_m,rotation_deg,roll_deg,pitch_deg,"
+          "yaw_deg\n"
+       << std::setprecision(9);
+    for (const RunEvaluation &e : evaluations) {
+        const auto write = [&](const eval::RelativeErrors &rpe, const char *unit) {
+            for (std::size_t p = 0; p < rpe.pairs.size(); ++p) {
+                os << e.sequence << ',' << e.method << ',' << unit << ',' << std::fixed
+                   << std::setprecision(6) << rpe.stamp_i_ns[p] * 1e-9 << ','
+                   << rpe.stamp_j_ns[p] * 1e-9 << std::defaultfloat << std::setprecision(9) << ','
+                   << (e.has_translation ? rpe.translation_m[p] : std::nan("")) << ','
+                   << rpe.rotation_deg[p] << ',' << rpe.roll_deg[p] << ',' << rpe.pitch_deg[p]
+                   << ',' << rpe.yaw_deg[p] << '\n';
+            }
+        };
+        write(e.rpe_frame, "frames");
+        write(e.rpe_second, "seconds");
+    }
+}
+
+// results.md: a table per sequence, the pooled table and the rotation error by body axis.
+void WriteResultsMarkdown(std::ostream &os, const std::vector<RunEvaluation> &evaluations,
+                          const BenchConfig &config) {
+    os << "# dorado benchmark\n\n"
+       << "RPE (mean over pairs) per frame (delta " << config.rpe_frame_delta << ") and per "
+       << config.rpe_second_delta_s << " s, against "
+       << (config.association == eval::AssociationMethod::kNearest
+               ? "the ground truth pose with the nearest stamp within " +
+                     FormatSeconds(config.t_max_diff_s) +
+                     " of each estimated stamp (association: nearest, as evo's "
+                     "associate_trajectories with --t_max_diff)"
+               : "the ground truth interpolated at each estimated stamp (association: "
+                 "interpolate, across gaps up to " +
+                     FormatSeconds(config.association_max_gap_s) + ")")
+       << " (reference: "
+       << (config.reference == BenchReference::kExact
+               ? "the simulator's exact trajectory, true_trajectory.tum"
+               : "the ground truth as recorded, ground_truth.tum for simulated sequences")
+       << "); every method of a sequence is scored on the same stamps and pairs. "
+       << "ATE after SE(3) Umeyama alignment. `odom_imu` integrates the gyro only: rotation "
+       << "only, as in the paper.\n\n";
+    std::vector<std::string> sequences;
+    for (const RunEvaluation &e : evaluations) {
+        if (std::find(sequences.begin(), sequences.end(), e.sequence) == sequences.end()) {
+            sequences.push_back(e.sequence);
+        }
+    }
+    for (const std::string &seq : sequences) {
+        std::vector<const RunEvaluation *> rows;
+        for (const RunEvaluation &e : evaluations) {
+            if (e.sequence == seq) rows.push_back(&e);
+        }
+        os << "## " << seq << "\n\n";
+        WriteMarkdownTable(os, rows, false);
+        for (const RunEvaluation *e : rows) {
+            if (!e->note.empty()) os << "\n- " << e->method << ": " << e->note;
+        }
+        os << "\n\n";
+    }
+    std::vector<const RunEvaluation *> all;
+    for (const RunEvaluation &e : evaluations) all.push_back(&e);
+    os << "## all sequences (pairs pooled)\n\n";
+    WriteMarkdownTable(os, all, true);
+    os << "\nRotation error by body axis (x forward = roll, y left = pitch, z up = yaw), mean "
+          "|component| of the pairs' rotation vectors, pooled:\n\n";
+    WriteAxisTable(os, all);
+    os << "\nFigures: fig4_angular_velocity, fig5_rpe_per_frame, fig6_rpe_per_second, "
+          "fig7_trajectories, runtime_per_stage (.png and .pdf).\n";
+}
+
+}  // namespace
 
 void WriteReport(const std::vector<RunEvaluation> &evaluations, const BenchConfig &config,
                  const std::string &out_dir) {
     const fs::path out(out_dir);
-    io::WriteFileAtomically((out / "results.csv").string(), [&](std::ostream &os) {
-        os << "sequence,method,metric,unit,rmse,mean,median,std,min,max,count\n";
-        std::map<std::string, std::map<std::string, std::vector<double>>> pooled;
-        std::vector<std::string> methods;
-        for (const RunEvaluation &e : evaluations) {
-            if (!e.ok) continue;
-            if (std::find(methods.begin(), methods.end(), e.method) == methods.end()) {
-                methods.push_back(e.method);
-            }
-            for (const Metric &metric : Metrics()) {
-                if (metric.needs_translation && !e.has_translation) continue;
-                WriteStatisticsRow(os, e.sequence, e.method, metric, metric.Of(e));
-                auto &all = pooled[e.method][metric.name];
-                all.insert(all.end(), metric.Of(e).begin(), metric.Of(e).end());
-            }
-        }
-        for (const std::string &method : methods) {
-            for (const Metric &metric : Metrics()) {
-                const auto it = pooled[method].find(metric.name);
-                if (it != pooled[method].end())
-                    WriteStatisticsRow(os, "all", method, metric, it->second);
-            }
-        }
-    });
-    io::WriteFileAtomically((out / "bench_runs.csv").string(), [&](std::ostream &os) {
-        os << "sequence,method,run_dir,ground_truth,ok,poses,matched,scored,note\n";
-        for (const RunEvaluation &e : evaluations) {
-            std::string note = e.note;
-            std::replace(note.begin(), note.end(), ',', ';');
-            std::replace(note.begin(), note.end(), '\n', ' ');
-            os << e.sequence << ',' << e.method << ',' << e.run_dir << ',' << e.ground_truth << ','
-               << (e.ok ? 1 : 0) << ',' << e.poses << ',' << e.matched << ',' << e.scored << ','
-               << note << '\n';
-        }
-    });
-    io::WriteFileAtomically((out / "rpe_pairs.csv").string(), [&](std::ostream &os) {
-        os << "sequence,method,delta_unit,t_i,t_j,translation_m,rotation_deg,roll_deg,pitch_deg,"
-              "yaw_deg\n"
-           << std::setprecision(9);
-        for (const RunEvaluation &e : evaluations) {
-            const auto write = [&](const eval::RelativeErrors &rpe, const char *unit) {
-                for (std::size_t p = 0; p < rpe.pairs.size(); ++p) {
-                    os << e.sequence << ',' << e.method << ',' << unit << ',' << std::fixed
-                       << std::setprecision(6) << rpe.stamp_i_ns[p] * 1e-9 << ','
-                       << rpe.stamp_j_ns[p] * 1e-9 << std::defaultfloat << std::setprecision(9)
-                       << ',' << (e.has_translation ? rpe.translation_m[p] : std::nan("")) << ','
-                       << rpe.rotation_deg[p] << ',' << rpe.roll_deg[p] << ',' << rpe.pitch_deg[p]
-                       << ',' << rpe.yaw_deg[p] << '\n';
-                }
-            };
-            write(e.rpe_frame, "frames");
-            write(e.rpe_second, "seconds");
-        }
-    });
-    io::WriteFileAtomically((out / "results.md").string(), [&](std::ostream &os) {
-        os << "# dorado benchmark\n\n"
-           << "RPE (mean over pairs) per frame (delta " << config.rpe_frame_delta << ") and per "
-           << config.rpe_second_delta_s << " s, against "
-           << (config.association == eval::AssociationMethod::kNearest
-                   ? "the ground truth pose with the nearest stamp within " +
-                         FormatSeconds(config.t_max_diff_s) +
-                         " of each estimated stamp (association: nearest, as evo's "
-                         "associate_trajectories with --t_max_diff)"
-                   : "the ground truth interpolated at each estimated stamp (association: "
-                     "interpolate, across gaps up to " +
-                         FormatSeconds(config.association_max_gap_s) + ")")
-           << " (reference: "
-           << (config.reference == BenchReference::kExact
-                   ? "the simulator's exact trajectory, true_trajectory.tum"
-                   : "the ground truth as recorded, ground_truth.tum for simulated sequences")
-           << "); every method of a sequence is scored on the same stamps and pairs. "
-           << "ATE after SE(3) Umeyama alignment. `odom_imu` integrates the gyro only: rotation "
-           << "only, as in the paper.\n\n";
-        std::vector<std::string> sequences;
-        for (const RunEvaluation &e : evaluations) {
-            if (std::find(sequences.begin(), sequences.end(), e.sequence) == sequences.end()) {
-                sequences.push_back(e.sequence);
-            }
-        }
-        for (const std::string &seq : sequences) {
-            std::vector<const RunEvaluation *> rows;
-            for (const RunEvaluation &e : evaluations) {
-                if (e.sequence == seq) rows.push_back(&e);
-            }
-            os << "## " << seq << "\n\n";
-            WriteMarkdownTable(os, rows, false);
-            for (const RunEvaluation *e : rows) {
-                if (!e->note.empty()) os << "\n- " << e->method << ": " << e->note;
-            }
-            os << "\n\n";
-        }
-        std::vector<const RunEvaluation *> all;
-        for (const RunEvaluation &e : evaluations) all.push_back(&e);
-        os << "## all sequences (pairs pooled)\n\n";
-        WriteMarkdownTable(os, all, true);
-        os << "\nRotation error by body axis (x forward = roll, y left = pitch, z up = yaw), mean "
-              "|component| of the pairs' rotation vectors, pooled:\n\n";
-        WriteAxisTable(os, all);
-        os << "\nFigures: fig4_angular_velocity, fig5_rpe_per_frame, fig6_rpe_per_second, "
-              "fig7_trajectories, runtime_per_stage (.png and .pdf).\n";
-    });
+    const auto write = [&](const char *name, auto &&writer) {
+        io::WriteFileAtomically((out / name).string(), writer);
+    };
+    write("results.csv", [&](std::ostream &os) { WriteResultsCsv(os, evaluations); });
+    write("bench_runs.csv", [&](std::ostream &os) { WriteRunsCsv(os, evaluations); });
+    write("rpe_pairs.csv", [&](std::ostream &os) { WriteRpePairsCsv(os, evaluations); });
+    write("results.md", [&](std::ostream &os) { WriteResultsMarkdown(os, evaluations, config); });
 }
 
 }  // namespace dorado::apps

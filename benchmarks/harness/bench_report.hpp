@@ -3,7 +3,8 @@
 /// Scores the finished runs of a benchmark against their ground truth and writes the report:
 /// results.csv (statistics per sequence, method and metric, and over all sequences),
 /// bench_runs.csv (each run: directory, ground truth, status, poses),
-/// rpe_pairs.csv (every RPE pair, for the box plots) and results.md (tables).
+/// rpe_pairs.csv (every RPE pair, for the box plots) and results.md (tables). The evaluation is in
+/// bench_evaluate.cpp, the writing in bench_report.cpp.
 
 #include <string>
 #include <vector>

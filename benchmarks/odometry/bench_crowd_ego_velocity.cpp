@@ -5,7 +5,7 @@
 // and its fastest run kept, so that the spread over scans is the algorithm's (outlier structure),
 // not the shared machine's; times are the thread's CPU time (CLOCK_THREAD_CPUTIME_ID), so that
 // other processes on a loaded machine do not count. Run:
-// build/benchmarks/odometry/bench_crowd_ego_velocity [scans=200] [reps=3]
+// build/benchmarks/odometry/bench_crowd_ego_velocity [scans=200] [reps=3] [points: one size only]
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -76,6 +76,7 @@ Stats Measure(
 int main(int argc, char **argv) {
     const int scans = argc > 1 ? std::atoi(argv[1]) : 200;
     const int reps = argc > 2 ? std::atoi(argv[2]) : 3;
+    const int only_points = argc > 3 ? std::atoi(argv[3]) : 0;
     std::printf(
         "crowded scans: 3-6 coherent movers on 25-40 %% of the points, 4-8 %% clutter, 3-6 %% "
         "multipath ghosts, ~55 %% of the static points on the ground; %d scans per size, fastest "
@@ -85,7 +86,8 @@ int main(int argc, char **argv) {
     std::printf("%6s | %-32s | %-24s | %7s | %-22s\n", "points",
                 "dorado: median p95 [ms] p95/med it", "reference: median p95", "speedup",
                 "RMSE/CRB dorado ref");
-    for (const int points : {500, 2000, 5000, 20000}) {
+    for (const int points : {500, 1000, 2000, 5000, 20000}) {
+        if (only_points > 0 && points != only_points) continue;
         const int count = points >= 20000 ? std::max(20, scans / 4) : scans;
         std::vector<CrowdScene> scenes;
         std::vector<double> crb;

@@ -81,8 +81,9 @@ Eigen::Isometry3d InterpolatePose(const Eigen::Isometry3d &T_a, const Eigen::Iso
 }
 
 double RotationAngle(const Eigen::Matrix3d &R) {
-    const double c = std::clamp((R.trace() - 1.0) / 2.0, -1.0, 1.0);
-    return std::acos(c);
+    // Not acos((trace - 1) / 2): near 0 its resolution is sqrt(2 eps) = 2.1e-8 rad (one rounding
+    // of the trace reads as 2e-8 rad), the quaternion route's is eps.
+    return LogSO3(R).norm();
 }
 
 Eigen::Matrix3d RotationFromRollPitchYaw(const Eigen::Vector3d &rpy_rad) {

@@ -198,17 +198,20 @@ int LocalMap::Impl::NearestInNeighbourhood(int32_t i, int k) const {
     const int max_rings = MaxShapeRings();
     int rings = 0;
     for (;; ++rings) {
-        // The shell of voxels exactly `rings` away (Chebyshev) from p's.
+        // The shell of voxels exactly `rings` away (Chebyshev) from p's, in the order of the full
+        // cube's loops: inside the cube's x and y faces only its two z faces are on the shell.
         for (int32_t dx = -rings; dx <= rings; ++dx)
-            for (int32_t dy = -rings; dy <= rings; ++dy)
-                for (int32_t dz = -rings; dz <= rings; ++dz) {
-                    if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != rings) continue;
+            for (int32_t dy = -rings; dy <= rings; ++dy) {
+                const bool side = std::abs(dx) == rings || std::abs(dy) == rings;
+                const int32_t step = side || rings == 0 ? 1 : 2 * rings;
+                for (int32_t dz = -rings; dz <= rings; dz += step) {
                     const auto it = voxels.find({key.x + dx, key.y + dy, key.z + dz});
                     if (it == voxels.end()) continue;
                     const Voxel &v = it->second;
                     for (int32_t s = v.first; s < v.first + v.count; ++s)
                         scratch.emplace_back((points_world[s] - p).squaredNorm(), s);
                 }
+            }
         if (rings >= max_rings) break;
         if (scratch.size() < wanted) continue;
         // Every point closer than `rings` voxels has been seen: done when the k-th is that close.

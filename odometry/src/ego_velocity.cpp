@@ -127,16 +127,16 @@ Eigen::Matrix3d Covariance(const EgoVelocityConfig &config, internal::Workspace 
     const internal::DopplerSystem &s = ws.system;
     const Eigen::Matrix3d H_inv = AtWA.inverse();
     const double dof = std::max(inliers - 3, 1);
-    // ws.weighted = w_i * mask_i from the last SolveWeighted on the same mask.
-    const double rWr = (ws.weighted.array() * ws.residual.array().square()).sum();
+    // ws.weighted = w_i * mask_i from the last SolveWeighted on the same mask; one pass gives
+    // rWr and the sandwich's meat sum (w_i r_i)^2 d_i d_i^T.
+    double rWr = 0.0;
+    const Eigen::Matrix3d meat = internal::ResidualMoments(s, ws.weighted, ws.residual, rWr).AtWA();
     residual_sigma = std::sqrt(rWr / dof);
     const double gate_factor =
         config.method == RobustMethod::kRansac ? GateConsistencyFactor(config.gate_sigmas) : 1.0;
     if (config.covariance == CovarianceModel::kResidualScaled)
         return gate_factor * rWr / dof * H_inv;
     // Sandwich: H^-1 (sum (w_i r_i)^2 d_i d_i^T) H^-1, small-sample factor N / (N - 3).
-    ws.weighted_A = s.A.array().colwise() * (ws.weighted.array() * ws.residual.array());
-    const Eigen::Matrix3d meat = internal::SymmetricGram(ws.weighted_A, ws.weighted_A);
     return gate_factor * (static_cast<double>(inliers) / dof) * H_inv * meat * H_inv;
 }
 
@@ -254,6 +254,10 @@ EgoVelocityResult EgoVelocityEstimator::Estimate(const RadarScan &scan_radar) {
     if (eiv) {
         solved = solved && internal::FitWithDirectionNoise(config_, ws, v, AtWA, cov_eiv);
         result.direction_noise_compensated = solved;
+    } else if (solved && config_.method == RobustMethod::kRansac) {
+        // RANSAC's last pass summed the normal equations of exactly this mask (ws.weighted too).
+        AtWA = ws.mask_equations.AtWA();
+        solved = internal::SolveNormalEquations(ws.mask_equations, v);
     } else {
         solved = (solved || config_.method == RobustMethod::kNone) &&
                  internal::SolveWeighted(ws.system, ws.mask, ws, v, AtWA);

@@ -69,7 +69,8 @@ void AssignCells(const EgoVelocityConfig &config, DopplerSystem &s, Eigen::Vecto
 }
 
 // Spread-aware MSAC score: each inlier contributes its quality 1 - r^2/gate^2 to its direction
-// cell, and a cell contributes sqrt(its sum). Returns the score; `inliers` gets the count.
+// cell, and a cell contributes sqrt(its sum). Returns the score; `inliers` gets the count and
+// ws.cell_inliers the inliers per cell.
 // Bail-out (Capel 2005): after the first `check` points of the subset (a random sample, as the
 // subset is shuffled) a hypothesis with fewer than `min_check_inliers` inliers among them is
 // dropped (returns -1) without scoring the rest; check = 0 scores everything.
@@ -123,12 +124,12 @@ void DrawSubset(const DopplerSystem &from, Eigen::Index count, Workspace &ws, Do
 // Fraction of the occupied direction cells in which the last scored hypothesis explains the
 // majority of the points. A static world scores high; a crowd moving together (a bus) wins only
 // its own few cells.
-double CellCoverage(const Workspace &ws) {
+double CellCoverage(const Workspace &ws, const Eigen::ArrayXi &cell_inliers) {
     int occupied = 0, won = 0;
     for (Eigen::Index c = 0; c < ws.cell_total.size(); ++c) {
         if (ws.cell_total[c] == 0) continue;
         ++occupied;
-        won += 2 * ws.cell_inliers[c] > ws.cell_total[c];
+        won += 2 * cell_inliers[c] > ws.cell_total[c];
     }
     return occupied ? static_cast<double>(won) / occupied : 0.0;
 }
@@ -167,7 +168,7 @@ bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, 
     Eigen::Vector3d best_v = Eigen::Vector3d::Zero();
     int needed = config.ransac_min_iterations;
     Eigen::Vector3d candidate;
-    Eigen::Matrix3d AtWA;
+    Eigen::ArrayXi &best_cells = ws.best_cell_inliers;  // the best hypothesis' inliers per cell
     iterations = 0;
     // Hard cap: at most ransac_max_iterations hypotheses; when the stopping rule has not been met
     // by then, the best hypothesis so far is refit below (the fallback), as if it had.
@@ -188,37 +189,44 @@ bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, 
         if (score <= best_score) continue;
         // Local optimisation: refit on this hypothesis' inliers of the subset (eq. 2), keep the
         // refit when it scores better. Cheap, and turns the noisy 3-point model into a good one.
+        best_cells = ws.cell_inliers;
         for (int round = 0; round < 2; ++round) {
-            ClassifyInliers(s, candidate, scratch);
+            NormalEquations equations;
+            ClassifyAndAccumulate(s, candidate, scratch.residual, scratch.mask, scratch.weighted,
+                                  equations);
             Eigen::Vector3d refit;
-            if (!SolveWeighted(s, scratch.mask, scratch, refit, AtWA)) break;
+            if (!SolveNormalEquations(equations, refit)) break;
             int refit_count = 0;
             const double refit_score = Score(s, refit, ws, refit_count);
             if (refit_score <= score) break;
             candidate = refit;
             score = refit_score;
             count = refit_count;
+            best_cells = ws.cell_inliers;
         }
         best_score = score;
         best_v = candidate;
         // Stopping rule: the usual one on the inlier ratio, discounted by the cell coverage, so
         // that a compact crowd holding most points does not stop the search before an
         // all-static sample is drawn (the static world then wins on score).
-        Score(s, candidate, ws, count);
         best_count = count;
         const double ratio = static_cast<double>(count) / static_cast<double>(m);
-        needed = RequiredIterations(ratio * CellCoverage(ws), config.ransac_success_probability);
+        needed = RequiredIterations(ratio * CellCoverage(ws, best_cells),
+                                    config.ransac_success_probability);
     }
     if (best_score < 0.0) return false;
 
     // Refit on the inliers among all points, re-gate, until the inlier set settles.
+    // One pass per round: classify against v and sum the next refit's normal equations.
     v = best_v;
-    int previous = ClassifyInliers(all, v, ws, ws.mask);
+    NormalEquations &equations = ws.mask_equations;
+    int previous = ClassifyAndAccumulate(all, v, ws.residual, ws.mask, ws.weighted, equations);
     for (int round = 0; round < config.refit_iterations; ++round) {
         Eigen::Vector3d refit;
-        if (!SolveWeighted(all, ws.mask, ws, refit, AtWA)) break;
+        if (!SolveNormalEquations(equations, refit)) break;
         v = refit;
-        const int count = ClassifyInliers(all, v, ws, ws.mask);
+        const int count =
+            ClassifyAndAccumulate(all, v, ws.residual, ws.mask, ws.weighted, equations);
         if (count == previous) break;
         previous = count;
     }

@@ -2,6 +2,7 @@
 // Internal to dorado_odometry: the linear system of eq. (1)-(2) and the robust solvers on it.
 
 #include <Eigen/Core>
+#include <array>
 #include <random>
 #include <vector>
 
@@ -25,12 +26,20 @@ struct DopplerSystem {
     void Resize(Eigen::Index n);
 };
 
-/// Per-point buffers of one system size. RANSAC keeps one set for its scoring subset and one for
-/// all points, so that neither is reallocated when the other is used (alternating sizes made
-/// glibc return and re-fault the pages at every scan: 1.6 -> 0.3 ms per 5 000-point scan).
+/// The normal equations of eq. (2), A^T W A (upper triangle: xx xy xz yy yz zz) and A^T W b.
+struct NormalEquations {
+    std::array<double, 6> gram{};
+    std::array<double, 3> rhs{};
+    void Add(const NormalEquations &other);
+    [[nodiscard]] Eigen::Matrix3d AtWA() const;
+};
+
+/// Per-point buffers of one system size. RANSAC keeps one set for its scoring subset and uses
+/// the workspace's own for all points, so that neither is reallocated when the other is used
+/// (alternating sizes made glibc return and re-fault the pages at every scan: 1.6 -> 0.3 ms per
+/// 5 000-point scan).
 struct Scratch {
     Eigen::VectorXd residual, mask, weighted;
-    Eigen::Matrix<double, Eigen::Dynamic, 3> weighted_A;
 };
 
 /// Buffers reused from scan to scan so that the RANSAC loop never allocates.
@@ -40,10 +49,11 @@ struct Workspace {
     std::vector<Eigen::Index> used_to_input;  ///< row of `system` -> index in the scan
     std::vector<Eigen::Index> shuffle;
     Eigen::VectorXd residual, mask, weighted, sort_buffer;
-    Eigen::Matrix<double, Eigen::Dynamic, 3> weighted_A;
     Eigen::ArrayXd cell_score;
-    Eigen::ArrayXi cell_inliers, cell_total;
+    Eigen::ArrayXi cell_inliers, cell_total, best_cell_inliers;
     Scratch subset_scratch;  ///< RANSAC's buffers on `subset`
+    /// Normal equations of eq. (2) on `mask`, left by Ransac (its last classification pass).
+    NormalEquations mask_equations;
     std::mt19937_64 rng;
 };
 
@@ -55,6 +65,18 @@ Eigen::Matrix3d Gram(const Eigen::Matrix<double, Eigen::Dynamic, 3> &X,
 /// X^T Y when it is known to be symmetric (six dot products).
 Eigen::Matrix3d SymmetricGram(const Eigen::Matrix<double, Eigen::Dynamic, 3> &X,
                               const Eigen::Matrix<double, Eigen::Dynamic, 3> &Y);
+
+/// One pass: weighted_i = w_i * mask_i and the normal equations with W = diag(weighted).
+NormalEquations Accumulate(const DopplerSystem &system, const Eigen::VectorXd &mask,
+                           Eigen::VectorXd &weighted);
+
+/// v = (A^T W A)^-1 A^T W b; false when A^T W A is singular (a pivot below 1e-12 of the largest).
+bool SolveNormalEquations(const NormalEquations &ne, Eigen::Vector3d &v);
+
+/// One pass for the covariance: rWr = sum weighted_i r_i^2 (returned in `rWr`) and, as the
+/// gram of the result, sum (weighted_i r_i)^2 d_i d_i^T (the sandwich's meat).
+NormalEquations ResidualMoments(const DopplerSystem &system, const Eigen::VectorXd &weighted,
+                                const Eigen::VectorXd &residual, double &rWr);
 
 /// Weighted least squares (eq. 2) on the rows with mask_i = 1: v = (A^T W A)^-1 A^T W b.
 /// `AtWA` receives A^T W A. False when A^T W A is singular.
@@ -70,10 +92,12 @@ void Unwrap(DopplerSystem &system, const Eigen::Vector3d &v);
 int ClassifyInliers(DopplerSystem &system, const Eigen::Vector3d &v, Workspace &ws,
                     Eigen::VectorXd &mask);
 
-/// SolveWeighted and ClassifyInliers on explicit buffers (`scratch` instead of ws's own).
-bool SolveWeighted(const DopplerSystem &system, const Eigen::VectorXd &mask, Scratch &scratch,
-                   Eigen::Vector3d &v, Eigen::Matrix3d &AtWA);
-int ClassifyInliers(DopplerSystem &system, const Eigen::Vector3d &v, Scratch &scratch);
+/// ClassifyInliers into (residual, mask) and, in the same pass, weighted = w_i * mask_i and the
+/// normal equations of eq. (2) on the new mask: what SolveWeighted on it would sum. Returns the
+/// count.
+int ClassifyAndAccumulate(DopplerSystem &system, const Eigen::Vector3d &v,
+                          Eigen::VectorXd &residual, Eigen::VectorXd &mask,
+                          Eigen::VectorXd &weighted, NormalEquations &equations);
 
 /// The 3-point model with aliased Doppler (alias_span > 0): the best of the 27 wraps of the
 /// sample (alias_hypotheses.cpp). False for a degenerate sample or no wrap below max_speed_mps.
