@@ -24,17 +24,17 @@ struct ScanRecord {
 };
 
 // The whole recording through the odometry (imu+doppler, default settings), once.
-struct Run {
+struct RecordingRun {
     io::DatasetConfig dataset;
     std::vector<ScanRecord> scans;
     std::vector<ImuSample> imu;
     std::size_t bad_scans = 0;
 };
 
-const Run *RealRun() {
-    static std::unique_ptr<Run> run;
+const RecordingRun *RealRun() {
+    static std::unique_ptr<RecordingRun> run;
     if (run) return run.get();
-    run = std::make_unique<Run>();
+    run = std::make_unique<RecordingRun>();
     run->dataset = io::LoadDatasetConfig(kConfig);
     frontend::FrontEndConfig config;
     config.run_mapper = false;
@@ -67,7 +67,7 @@ class RealRecording : public ::testing::Test {
                          << "): see docs/real_recordings.md for where it comes from";
         run_ = RealRun();
     }
-    const Run *run_ = nullptr;
+    const RecordingRun *run_ = nullptr;
 };
 
 double Median(std::vector<double> v) {
@@ -128,7 +128,8 @@ TEST_F(RealRecording, DopplerVelocityFollowsTheAccelerometer) {
     std::vector<odometry::StampedRadarVelocity> velocities;
     for (const auto &s : run_->scans)
         if (s.result.odometry.ego.valid)
-            velocities.push_back({s.stamp_ns, s.result.odometry.ego.v_radar_mps});
+            velocities.push_back(
+                odometry::StampedRadarVelocity{s.stamp_ns, s.result.odometry.ego.v_radar_mps});
     const odometry::InertialCheck check =
         odometry::CompareWithImu(velocities, run_->imu, run_->dataset.extrinsics);
     RecordProperty("slope", std::to_string(check.as_given.slope));
