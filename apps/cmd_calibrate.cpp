@@ -82,6 +82,12 @@ std::string Vec(const Eigen::Vector3d &v) {
     return s.str();
 }
 
+std::string Vec4(double x, double y, double z, double w) {
+    std::ostringstream s;
+    s << std::setprecision(10) << '[' << x << ", " << y << ", " << z << ", " << w << ']';
+    return s.str();
+}
+
 // The snippet the dataset description accepts (rotation as roll, pitch, yaw with
 // R = Rz(yaw) Ry(pitch) Rx(roll)).
 void WriteSnippet(const std::string &path, const std::string &comment, const Eigen::Isometry3d &T) {
@@ -150,12 +156,21 @@ void RunDopplerSign(const CalibrateOptions &opt, const io::DatasetConfig &datase
          << "#   best scan time offset " << c.best_time_offset_s << " s: slope "
          << c.at_best_offset.slope << ", residual RMS " << c.at_best_offset.rms_residual_mps
          << " m/s (rest window: gyro RMS " << c.rest_gyro_rms_radps << " rad/s)\n";
+    const Eigen::Vector3d phi_deg = c.rotation_correction_base_rad * 180.0 / M_PI;
+    text << "#   extrinsics.T_base_radar rotation correction (base frame, applied on the left): "
+         << phi_deg.norm() << " deg (rotation vector " << Vec(phi_deg)
+         << " deg), residual RMS then " << c.rms_residual_corrected_mps << " m/s\n";
     if (!(std::abs(c.at_best_offset.slope - 1.0) < 0.3))
         text << "#   WARNING: the slope is far from 1: check extrinsics.T_base_radar's rotation\n";
     std::cerr << text.str();
     const double sign = dataset.fields.doppler_sign * c.doppler_sign;
+    const Eigen::Quaterniond q(ExpSO3(c.rotation_correction_base_rad) *
+                               dataset.extrinsics.T_base_radar.linear());
     io::WriteFileAtomically(opt.out, [&](std::ostream &os) {
-        os << text.str() << "fields:\n  doppler_sign: " << sign << "\n";
+        os << text.str() << "fields:\n  doppler_sign: " << sign << "\n"
+           << "# the corrected rotation, if the correction above is trusted (see its residual):\n"
+           << "# extrinsics:\n#   T_base_radar:\n#     quaternion_xyzw: "
+           << Vec4(q.x(), q.y(), q.z(), q.w()) << "\n";
     });
 }
 

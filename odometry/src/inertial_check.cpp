@@ -63,6 +63,8 @@ struct Track {
     std::vector<int64_t> stamp_ns;
     std::vector<Eigen::Vector3d> v_doppler_world, v_imu_world;
     std::vector<double> speed;
+    std::vector<Eigen::Vector3d> v_radar_base;  ///< sign * R_base_radar v_radar
+    std::vector<Eigen::Matrix3d> R_world_base;
 };
 
 Track Sample(const std::vector<StampedRadarVelocity> &velocities, const Strapdown &s,
@@ -85,14 +87,16 @@ Track Sample(const std::vector<StampedRadarVelocity> &velocities, const Strapdow
         track.v_doppler_world.push_back(s.R_world_imu[k] * R_base_imu.transpose() * v_base);
         track.v_imu_world.push_back(s.VelocityAt(t, k));
         track.speed.push_back(v.v_radar_mps.norm());
+        track.v_radar_base.push_back(sign * (R_base_radar * v.v_radar_mps));
+        track.R_world_base.push_back(s.R_world_imu[k] * R_base_imu.transpose());
     }
     return track;
 }
 
-InertialFit Fit(const Track &track, const InertialCheckConfig &config) {
+// Calls pair(i, j) for every comparison window with motion.
+template <typename Pair>
+void ForEachWindow(const Track &track, const InertialCheckConfig &config, Pair pair) {
     const auto window_ns = static_cast<int64_t>(config.window_s * 1e9);
-    double dd = 0.0, di = 0.0, rr = 0.0;
-    InertialFit fit;
     std::size_t j = 0;
     for (std::size_t i = 0; i < track.stamp_ns.size(); ++i) {
         j = std::max(j, i + 1);
@@ -100,18 +104,53 @@ InertialFit Fit(const Track &track, const InertialCheckConfig &config) {
         if (j >= track.stamp_ns.size()) break;
         if (track.stamp_ns[j] - track.stamp_ns[i] > window_ns * 3 / 2) continue;  // a gap
         if (std::max(track.speed[i], track.speed[j]) < config.min_speed_mps) continue;
+        pair(i, j);
+    }
+}
+
+InertialFit Fit(const Track &track, const InertialCheckConfig &config) {
+    double dd = 0.0, di = 0.0, rr = 0.0;
+    InertialFit fit;
+    ForEachWindow(track, config, [&](std::size_t i, std::size_t j) {
         const Eigen::Vector3d d_dop = track.v_doppler_world[j] - track.v_doppler_world[i];
         const Eigen::Vector3d d_imu = track.v_imu_world[j] - track.v_imu_world[i];
         dd += d_dop.squaredNorm();
         di += d_dop.dot(d_imu);
         rr += (d_imu - d_dop).squaredNorm();
         ++fit.windows;
-    }
+    });
     if (fit.windows == 0) return fit;
     fit.slope = dd > 0.0 ? di / dd : std::numeric_limits<double>::quiet_NaN();
     fit.rms_residual_mps = std::sqrt(rr / fit.windows);
     fit.rms_delta_v_mps = std::sqrt(dd / fit.windows);
     return fit;
+}
+
+// The rotation correction: with R_base_radar -> ExpSO3(phi) R_base_radar, the Doppler velocity
+// R_world_base Exp(phi) u ~= R_world_base (u - Hat(u) phi) (u = the radar velocity in base), so a
+// window's residual dv_imu - dv_dop is linear in phi:
+//   (-R_wb(j) Hat(u_j) + R_wb(i) Hat(u_i)) phi = dv_imu - dv_dop.
+// Normal equations over every window; the residual is recomputed at phi.
+void FitRotation(const Track &track, const InertialCheckConfig &config, InertialCheck &check) {
+    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    std::vector<std::pair<Eigen::Matrix3d, Eigen::Vector3d>> rows;
+    ForEachWindow(track, config, [&](std::size_t i, std::size_t j) {
+        const Eigen::Matrix3d A = -track.R_world_base[j] * Hat(track.v_radar_base[j]) +
+                                  track.R_world_base[i] * Hat(track.v_radar_base[i]);
+        const Eigen::Vector3d b = (track.v_imu_world[j] - track.v_imu_world[i]) -
+                                  (track.v_doppler_world[j] - track.v_doppler_world[i]);
+        H += A.transpose() * A;
+        g += A.transpose() * b;
+        rows.emplace_back(A, b);
+    });
+    if (rows.size() < 3) return;
+    const Eigen::Vector3d phi = H.ldlt().solve(g);
+    if (!phi.allFinite()) return;
+    double rr = 0.0;
+    for (const auto &[A, b] : rows) rr += (b - A * phi).squaredNorm();
+    check.rotation_correction_base_rad = phi;
+    check.rms_residual_corrected_mps = std::sqrt(rr / static_cast<double>(rows.size()));
 }
 
 }  // namespace
@@ -152,6 +191,7 @@ InertialCheck CompareWithImu(const std::vector<StampedRadarVelocity> &velocities
             check.as_given.rms_residual_mps <= check.flipped.rms_residual_mps ? 1 : -1;
     const double sign = check.doppler_sign < 0 ? -1.0 : 1.0;
     check.at_best_offset = check.doppler_sign < 0 ? check.flipped : check.as_given;
+    FitRotation(Sample(velocities, s, extrinsics, sign, 0), config, check);
     const int steps =
         static_cast<int>(std::floor(config.max_time_offset_s / config.time_offset_step_s));
     for (int i = -steps; i <= steps; ++i) {

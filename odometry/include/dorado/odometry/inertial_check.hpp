@@ -53,6 +53,12 @@ struct InertialCheck {
     /// the better sign); 0 and as_given without a search.
     double best_time_offset_s = 0.0;
     InertialFit at_best_offset;
+    /// The small rotation C (rotation vector, base frame) that best aligns the Doppler velocity
+    /// changes with the accelerometer's when T_base_radar's rotation becomes C R_base_radar
+    /// (linearised least squares at the given stamps and the better sign), and the residual then.
+    /// A few degrees here tilt the Doppler velocity and make the height drift.
+    Eigen::Vector3d rotation_correction_base_rad = Eigen::Vector3d::Zero();
+    double rms_residual_corrected_mps = std::numeric_limits<double>::quiet_NaN();
     Eigen::Vector3d gyro_bias_imu_radps = Eigen::Vector3d::Zero();  ///< from the rest window
     Eigen::Vector3d specific_force_at_rest_imu_mps2 = Eigen::Vector3d::Zero();
     double rest_gyro_rms_radps = 0.0;  ///< RMS gyro deviation in the rest window (at rest: noise)
