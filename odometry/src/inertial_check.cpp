@@ -79,16 +79,20 @@ Track Sample(const std::vector<StampedRadarVelocity> &velocities, const Strapdow
         const int64_t t = v.stamp_ns + offset_ns;
         std::size_t k = 0;
         if (!s.Find(t, k)) continue;
-        const Eigen::Vector3d omega_base = R_base_imu * s.omega_imu[k];
+        // The rotation at t itself: from the sample before, at the interval's mean rate.
+        const Eigen::Vector3d omega_imu = 0.5 * (s.omega_imu[k] + s.omega_imu[k - 1]);
+        const Eigen::Matrix3d R_world_imu =
+            s.R_world_imu[k - 1] * ExpSO3(omega_imu * NanosToSeconds(t - s.stamp_ns[k - 1]));
+        const Eigen::Vector3d omega_base = R_base_imu * omega_imu;
         // v_imu = v_radar + omega x (p_imu - p_radar), base axes, then IMU axes, then world.
         const Eigen::Vector3d v_base =
             sign * (R_base_radar * v.v_radar_mps) + omega_base.cross(lever_base);
         track.stamp_ns.push_back(t);
-        track.v_doppler_world.push_back(s.R_world_imu[k] * R_base_imu.transpose() * v_base);
+        track.v_doppler_world.push_back(R_world_imu * R_base_imu.transpose() * v_base);
         track.v_imu_world.push_back(s.VelocityAt(t, k));
         track.speed.push_back(v.v_radar_mps.norm());
         track.v_radar_base.push_back(sign * (R_base_radar * v.v_radar_mps));
-        track.R_world_base.push_back(s.R_world_imu[k] * R_base_imu.transpose());
+        track.R_world_base.push_back(R_world_imu * R_base_imu.transpose());
     }
     return track;
 }
