@@ -1,5 +1,6 @@
 // `dorado calibrate rotation|roll|sx DATASET --out FILE.yaml`: the paper's calibration (IV-A).
 #include <Eigen/Geometry>
+#include <cmath>
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
@@ -13,7 +14,9 @@
 #include "dorado/io/dataset.hpp"
 #include "dorado/odometry/calibration.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
+#include "dorado/odometry/inertial_check.hpp"
 #include "progress.hpp"
+#include "scan_loop.hpp"
 
 namespace dorado::apps {
 namespace {
@@ -22,6 +25,7 @@ struct CalibrateOptions {
     std::string step, dataset, out, config;
     double from_s = -1.0, to_s = -1.0;
     double min_speed_mps = 0.2;
+    double window_s = 0.5, rest_s = 1.0;  // doppler-sign
 };
 
 /// Per valid, moving scan in the time range: the radar velocity and the mean gyro rate in the base
@@ -78,6 +82,12 @@ std::string Vec(const Eigen::Vector3d &v) {
     return s.str();
 }
 
+std::string Vec4(double x, double y, double z, double w) {
+    std::ostringstream s;
+    s << std::setprecision(10) << '[' << x << ", " << y << ", " << z << ", " << w << ']';
+    return s.str();
+}
+
 // The snippet the dataset description accepts (rotation as roll, pitch, yaw with
 // R = Rz(yaw) Ry(pitch) Rx(roll)).
 void WriteSnippet(const std::string &path, const std::string &comment, const Eigen::Isometry3d &T) {
@@ -88,8 +98,90 @@ void WriteSnippet(const std::string &path, const std::string &comment, const Eig
     });
 }
 
+// Every valid ego-velocity (at rest too) with its stamp, and every IMU sample.
+void CollectAll(const CalibrateOptions &opt, const io::DatasetConfig &dataset,
+                std::vector<odometry::StampedRadarVelocity> &velocities,
+                std::vector<ImuSample> &imu, std::size_t &scans) {
+    odometry::EgoVelocityConfig ego;
+    if (!opt.config.empty()) ego = dorado::config::LoadOdometryConfig(opt.config).ego_velocity;
+    ego.sensor = dataset.radar;
+    odometry::EgoVelocityEstimator estimator(ego);
+    auto reader = io::OpenDataset(dataset);
+    Progress progress("calibrate " + opt.step, 0);
+    io::DatasetEvent event;
+    while (reader->Next(event)) {
+        if (event.kind == io::DatasetEvent::Kind::kImu && event.imu.omega_imu_radps.allFinite() &&
+            event.imu.accel_imu_mps2.allFinite() &&
+            (imu.empty() || event.imu.stamp_ns > imu.back().stamp_ns))
+            imu.push_back(event.imu);
+        if (event.kind != io::DatasetEvent::Kind::kRadarScan) continue;
+        progress.Update(++scans);
+        const auto r = estimator.Estimate(event.scan);
+        if (r.valid) velocities.push_back({event.stamp_ns, r.v_radar_mps});
+    }
+    progress.Finish();
+}
+
+// `dorado calibrate doppler-sign`: the ego-velocity fit cannot tell the Doppler sign (negating
+// every Doppler negates v with the same residuals); the accelerometer can.
+void RunDopplerSign(const CalibrateOptions &opt, const io::DatasetConfig &dataset) {
+    std::vector<odometry::StampedRadarVelocity> velocities;
+    std::vector<ImuSample> imu;
+    std::size_t scans = 0;
+    CollectAll(opt, dataset, velocities, imu, scans);
+    odometry::InertialCheckConfig config;
+    config.window_s = opt.window_s;
+    config.rest_s = opt.rest_s;
+    config.max_time_offset_s = 0.2;
+    odometry::InertialCheck c;
+    try {
+        c = odometry::CompareWithImu(velocities, imu, dataset.extrinsics, config);
+    } catch (const std::invalid_argument &e) {
+        throw io::DatasetError(dataset.rosbag.path + " (rosbag.imu_topic " +
+                               dataset.rosbag.imu_topic + "): " + e.what());
+    }
+    if (c.doppler_sign == 0)
+        throw io::DatasetError(dataset.rosbag.path + ": no " + std::to_string(opt.window_s) +
+                               " s window with motion where scans and IMU samples overlap (" +
+                               std::to_string(velocities.size()) + " valid scans, " +
+                               std::to_string(imu.size()) + " IMU samples): check the stamps");
+    std::ostringstream text;
+    text << std::setprecision(3) << "# dorado calibrate doppler-sign: " << velocities.size()
+         << " valid scans of " << scans << ", " << c.as_given.windows << " windows of "
+         << opt.window_s << " s with motion\n"
+         << "#   velocity change, IMU vs Doppler: sign as given: slope " << c.as_given.slope
+         << ", residual RMS " << c.as_given.rms_residual_mps << " m/s; flipped: slope "
+         << c.flipped.slope << ", residual RMS " << c.flipped.rms_residual_mps
+         << " m/s (signal RMS " << c.as_given.rms_delta_v_mps << " m/s)\n"
+         << "#   best scan time offset " << c.best_time_offset_s << " s: slope "
+         << c.at_best_offset.slope << ", residual RMS " << c.at_best_offset.rms_residual_mps
+         << " m/s (rest window: gyro RMS " << c.rest_gyro_rms_radps << " rad/s)\n";
+    const Eigen::Vector3d phi_deg = c.rotation_correction_base_rad * 180.0 / M_PI;
+    text << "#   extrinsics.T_base_radar rotation correction (base frame, applied on the left): "
+         << phi_deg.norm() << " deg (rotation vector " << Vec(phi_deg)
+         << " deg), residual RMS then " << c.rms_residual_corrected_mps << " m/s\n";
+    if (!(std::abs(c.at_best_offset.slope - 1.0) < 0.3))
+        text << "#   WARNING: the slope is far from 1: check extrinsics.T_base_radar's rotation\n";
+    std::cerr << text.str();
+    const double sign = dataset.fields.doppler_sign * c.doppler_sign;
+    const Eigen::Quaterniond q(ExpSO3(c.rotation_correction_base_rad) *
+                               dataset.extrinsics.T_base_radar.linear());
+    io::WriteFileAtomically(opt.out, [&](std::ostream &os) {
+        os << text.str() << "fields:\n  doppler_sign: " << sign << "\n"
+           << "# the corrected rotation, if the correction above is trusted (see its residual):\n"
+           << "# extrinsics:\n#   T_base_radar:\n#     quaternion_xyzw: "
+           << Vec4(q.x(), q.y(), q.z(), q.w()) << "\n";
+    });
+}
+
 void RunCalibrate(const CalibrateOptions &opt) {
     const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset);
+    if (opt.step == "doppler-sign") {
+        if (!HasImuTopic(dataset))
+            throw io::ConfigError(opt.dataset +
+                                  ": key 'rosbag.imu_topic': doppler-sign needs an IMU");
+        return RunDopplerSign(opt, dataset);
+    }
     if (opt.step == "sx" &&
         (dataset.reader != io::ReaderKind::kRosbag || dataset.rosbag.imu_topic.empty()))
         throw io::ConfigError(opt.dataset +
@@ -142,10 +234,11 @@ void RegisterCalibrateCommand(CLI::App &app) {
         "calibrate",
         "Radar mounting calibration (paper IV-A). rotation: drive straight forward and backward; "
         "roll: drive with turns on flat ground (after rotation); sx: drive a flat circle (needs an "
-        "IMU). Writes a YAML snippet for the dataset description.");
-    cmd->add_option("STEP", opt->step, "rotation | roll | sx")
+        "IMU); doppler-sign: any motion that starts at rest (needs an IMU: the velocity change "
+        "against the accelerometer). Writes a YAML snippet for the dataset description.");
+    cmd->add_option("STEP", opt->step, "rotation | roll | sx | doppler-sign")
         ->required()
-        ->check(CLI::IsMember({"rotation", "roll", "sx"}));
+        ->check(CLI::IsMember({"rotation", "roll", "sx", "doppler-sign"}));
     cmd->add_option(
            "DATASET", opt->dataset,
            "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")
@@ -155,6 +248,9 @@ void RegisterCalibrateCommand(CLI::App &app) {
     cmd->add_option("--out", opt->out, "YAML snippet to write")->required();
     cmd->add_option("--config", opt->config, "odometry settings (ego_velocity section is used)");
     cmd->add_option("--min-speed", opt->min_speed_mps, "ignore scans slower than this [m/s]");
+    cmd->add_option("--window", opt->window_s, "doppler-sign: comparison window [s]");
+    cmd->add_option("--rest", opt->rest_s,
+                    "doppler-sign: the first seconds of IMU data, at rest (gyro bias, gravity)");
     cmd->callback([opt] { RunCalibrate(*opt); });
 }
 

@@ -93,6 +93,10 @@ int RunInfo(const std::string &dataset_arg) {
     std::vector<double> points, intervals_ms;
     std::vector<std::size_t> interval_ends;  // the scan index that ends each interval
     std::size_t scans = 0, bad = 0, imu = 0, gt = 0;
+    // As the front end pairs them: the IMU samples that arrived before a scan, stamped in its
+    // interval (previous scan, scan]. None there = no gyro rotation for that scan.
+    ImuWindow imu_window;
+    const bool has_imu_topic = is_bag && !config.rosbag.imu_topic.empty();
     int64_t first_ns = 0, last_ns = 0, last_imu_ns = INT64_MIN;
     double min_doppler = 0.0, max_doppler = 0.0;
     io::DatasetEvent event;
@@ -113,6 +117,7 @@ int RunInfo(const std::string &dataset_arg) {
                                  "at " + std::to_string(NanosToSeconds(event.stamp_ns)) + " s");
                 }
                 ++imu;
+                imu_window.Add(event.imu);
                 break;
             case io::DatasetEvent::Kind::kGroundTruth:
                 ++gt;
@@ -132,7 +137,18 @@ int RunInfo(const std::string &dataset_arg) {
                         intervals_ms.push_back(dt_ms);
                         interval_ends.push_back(event.scan_index);
                     }
+                    if (has_imu_topic && imu_window.Between(last_ns, event.stamp_ns).empty()) {
+                        char text[160];
+                        std::snprintf(
+                            text, sizeof(text),
+                            "%s: stamp %.3f s, newest IMU stamp %.3f s (different clocks?)",
+                            where.c_str(), NanosToSeconds(event.stamp_ns),
+                            NanosToSeconds(imu_window.newest_stamp_ns()));
+                        problems.Add("scan intervals without IMU samples (no gyro rotation there)",
+                                     text);
+                    }
                 }
+                imu_window.DropUpTo(event.stamp_ns - 1);
                 last_ns = std::max(last_ns, event.stamp_ns);
                 if (event.removed_nonfinite_points > 0) {
                     problems.Add(

@@ -49,7 +49,8 @@ constexpr const char *kCsvHeader =
     "omega_base_x,omega_base_y,omega_base_z,cov_omega_xx,cov_omega_xy,cov_omega_xz,cov_omega_yy,"
     "cov_omega_yz,cov_omega_zz,v_base_x,v_base_y,v_base_z,inliers,points,valid,reason,"
     "gyro_base_x,gyro_base_y,gyro_base_z,time_ms,cov_omega_model_xx,cov_omega_model_xy,"
-    "cov_omega_model_xz,cov_omega_model_yy,cov_omega_model_yz,cov_omega_model_zz\n";
+    "cov_omega_model_xz,cov_omega_model_yy,cov_omega_model_yz,cov_omega_model_zz,fallback_cause,"
+    "zero_velocity_update\n";
 
 std::string CsvRow(const odometry::OdometryStep &step, Eigen::Index points,
                    const Eigen::Vector3d &gyro_base, double time_ms) {
@@ -71,6 +72,9 @@ std::string CsvRow(const odometry::OdometryStep &step, Eigen::Index points,
     row << ',' << Num(time_ms);
     // The kinematic model's own error (vehicle.model_noise): add it to cov_omega for the total.
     AppendCovariance(row, step.motion.cov_model.bottomRightCorner<3, 3>());
+    // Every fallback or substitution has one cause (none for the scan's own twist).
+    row << ',' << odometry::ToString(step.fallback_cause) << ','
+        << (step.zero_velocity_update ? 1 : 0);
     row << '\n';
     return row.str();
 }
@@ -94,6 +98,14 @@ nlohmann::json Stats(std::vector<double> v) {
     const auto at = [&](double q) { return v[static_cast<std::size_t>(q * (v.size() - 1))]; };
     return {{"mean", sum / v.size()}, {"median", at(0.5)}, {"p05", at(0.05)},
             {"p95", at(0.95)},        {"min", v.front()},  {"max", v.back()}};
+}
+
+// " (no_imu_samples 3, invalid_velocity 1)", or "" without fallbacks.
+std::string CauseList(const std::map<std::string, int> &causes) {
+    std::string text;
+    for (const auto &[cause, count] : causes)
+        text += (text.empty() ? " (" : ", ") + cause + ' ' + std::to_string(count);
+    return text.empty() ? text : text + ")";
 }
 
 void RunOdometry(const OdometryOptions &opt) {
@@ -124,14 +136,16 @@ void RunOdometry(const OdometryOptions &opt) {
     Progress progress("odometry", expected);
     std::string csv = kCsvHeader;
     std::vector<double> times_ms, inlier_ratios;
-    std::map<std::string, int> invalid_reasons;
-    std::size_t fallbacks = 0;
+    std::map<std::string, int> invalid_reasons, fallback_causes;
+    std::size_t fallbacks = 0, zero_velocity_updates = 0;
     ScanLoop loop(front_end);
     StreamGuard guard;  // Ctrl-C or a reader error mid-stream: stop, write what was done
     loop.Run(*reader, guard, progress,
              [&](const io::DatasetEvent &event, const frontend::FrontEndResult &result) {
                  const odometry::OdometryStep &step = result.odometry;
                  fallbacks += step.used_fallback;
+                 zero_velocity_updates += step.zero_velocity_update;
+                 if (step.used_fallback) fallback_causes[odometry::ToString(step.fallback_cause)]++;
                  times_ms.push_back(result.times.total_ms);
                  if (!step.ego.valid && method != odometry::OdometryMethod::kImu) {
                      invalid_reasons[step.ego.reason.substr(0, step.ego.reason.find(':'))]++;
@@ -156,6 +170,9 @@ void RunOdometry(const OdometryOptions &opt) {
         {"scans_used", loop.used()},
         {"scans_skipped", loop.scans() - loop.used()},
         {"scans_with_fallback_twist", fallbacks},
+        // by cause (odometry::FallbackCause): they add up to scans_with_fallback_twist
+        {"fallback_causes", fallback_causes},
+        {"scans_zero_velocity_update", zero_velocity_updates},
         {"invalid_velocity_reasons", invalid_reasons},
         {"inlier_ratio", Stats(inlier_ratios)},
         {"time_per_scan_ms", Stats(times_ms)},
@@ -163,9 +180,9 @@ void RunOdometry(const OdometryOptions &opt) {
     AddStreamCounts(loop, summary);
     WriteSummary(opt.out, summary);
     std::fprintf(stderr,
-                 "odometry: %zu scans, %zu used, %zu with a fallback twist, %.3f ms/scan, "
+                 "odometry: %zu scans, %zu used, %zu with a fallback twist%s, %.3f ms/scan, "
                  "path %.1f m -> %s\n",
-                 loop.scans(), loop.used(), fallbacks,
+                 loop.scans(), loop.used(), fallbacks, CauseList(fallback_causes).c_str(),
                  times_ms.empty() ? 0.0 : summary["time_per_scan_ms"]["mean"].get<double>(),
                  front_end.trajectory().PathLength(), opt.out.c_str());
     guard.ThrowIfStopped("odometry", loop.scans(), opt.out);

@@ -21,14 +21,32 @@ double MillisecondsSince(Clock::time_point start) {
 // With the mapper on, the odometry's method follows the prior: the imu+doppler prior needs the
 // gyro-rotation chain, every other prior the Doppler model's (gyro-only odometry has no Doppler
 // velocity, hence no mask).
-odometry::DopplerOdometryConfig OdometryConfigFor(const FrontEndConfig &config) {
+// On an unconstrained platform (no Doppler rotation) the priors that do not use the odometry's
+// twist (none, constvel, imu) run the gyro chain (kImu) for the mask; the doppler prior is refused.
+odometry::DopplerOdometryConfig OdometryConfigFor(const FrontEndConfig &config,
+                                                  const VehicleGeometry &geometry) {
     odometry::DopplerOdometryConfig odometry = config.odometry;
     if (config.run_mapper) {
+        const bool unconstrained = geometry.model == VehicleModel::kUnconstrained;
+        if (unconstrained && config.prior == mapping::PriorKind::kDoppler)
+            throw std::invalid_argument(
+                "vehicle.model: unconstrained (no kinematic constraint) gives no rotation from the "
+                "Doppler: the doppler prior is refused; use --prior imu+doppler (gyro rotation, "
+                "Doppler velocity)");
         odometry.method = config.prior == mapping::PriorKind::kImuDoppler
                               ? odometry::OdometryMethod::kImuDoppler
-                              : odometry::OdometryMethod::kDoppler;
+                          : unconstrained ? odometry::OdometryMethod::kImu
+                                          : odometry::OdometryMethod::kDoppler;
     }
     return odometry;
+}
+
+// The window smoother's kinematic factor is the paper's constraint: none on an unconstrained
+// platform.
+mapping::MapperConfig MapperConfigFor(mapping::MapperConfig mapper,
+                                      const VehicleGeometry &geometry) {
+    if (geometry.model == VehicleModel::kUnconstrained) mapper.window.use_kinematic_model = false;
+    return mapper;
 }
 
 // The prior's twist from the odometry's (block-diagonal: the mapper's prior drops the v-omega
@@ -59,8 +77,8 @@ struct RadarFrontEnd::State {
         : config((c.Validate(), std::move(c))),
           extrinsics(e),
           geometry(g),
-          odometry(OdometryConfigFor(config), e, g) {
-        if (config.run_mapper) mapper.emplace(config.mapper, e, g);
+          odometry(OdometryConfigFor(config, g), e, g) {
+        if (config.run_mapper) mapper.emplace(MapperConfigFor(config.mapper, g), e, g);
     }
 
     FrontEndConfig config;
@@ -131,11 +149,12 @@ mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometrySt
         case PriorKind::kImuDoppler:
             // The odometry's twist honours every odometry setting; a fallback twist (no valid
             // velocity, an implausible angular rate) is not a measurement: substitute.
-            if (step.used_fallback && !step.ego.valid) {
+            if (step.fallback_cause == odometry::FallbackCause::kInvalidVelocity) {
                 why_not = Cause(step.ego.reason);
-            } else if (step.used_fallback &&
-                       step.fallback_reason.find("max_angular_rate_radps") != std::string::npos) {
+            } else if (step.fallback_cause == odometry::FallbackCause::kAngularRateLimit) {
                 why_not = "doppler: angular rate above max_angular_rate_radps";
+            } else if (step.fallback_cause == odometry::FallbackCause::kNoImuSamples) {
+                why_not = "no imu samples";
             } else if (kind == PriorKind::kDoppler) {
                 built = mapping::PriorFromDoppler(T_prev, PriorTwist(step), dt_s, noise);
             } else {
@@ -250,7 +269,8 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
 void RadarFrontEnd::Reset(const Eigen::Isometry3d &T_world_base) {
     State &s = *state_;
     s.odometry.Restart(T_world_base);
-    if (s.mapper) s.mapper.emplace(s.config.mapper, s.extrinsics, s.geometry);
+    if (s.mapper)
+        s.mapper.emplace(MapperConfigFor(s.config.mapper, s.geometry), s.extrinsics, s.geometry);
     s.T_world_base_initial = T_world_base;
     s.scans_since_reset = 0;
     s.last_dt_s = 0.0;

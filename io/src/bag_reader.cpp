@@ -7,6 +7,7 @@
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/PointCloud.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/Header.h>
 
 #include <map>
 #include <utility>
@@ -118,6 +119,8 @@ class BagReader final : public DatasetReader {
             topics.emplace_back(config.rosbag.imu_topic, "rosbag.imu_topic");
         if (!config.rosbag.ground_truth_topic.empty())
             topics.emplace_back(config.rosbag.ground_truth_topic, "rosbag.ground_truth_topic");
+        if (!config.rosbag.radar_trigger_topic.empty())
+            topics.emplace_back(config.rosbag.radar_trigger_topic, "rosbag.radar_trigger_topic");
         try {
             CheckTopicsExist(topics);
             std::vector<std::string> names;
@@ -132,9 +135,12 @@ class BagReader final : public DatasetReader {
     bool Next(DatasetEvent &event) override {
         if (finished_) return false;
         try {
-            if (!first_ && it_ != view_->end()) ++it_;
-            first_ = false;
-            if (it_ == view_->end()) return Finish();
+            // Trigger messages are consumed here: they only stamp the scans after them.
+            do {
+                if (!first_ && it_ != view_->end()) ++it_;
+                first_ = false;
+                if (it_ == view_->end()) return Finish();
+            } while (ConsumedTrigger(*it_));
         } catch (const std::exception &e) {
             // The index itself is unusable from here on: report it and end the stream so that what
             // was read so far is still used.
@@ -172,6 +178,23 @@ class BagReader final : public DatasetReader {
         return false;
     }
 
+    // A message on rosbag.radar_trigger_topic: remembers its stamp for the next scan.
+    bool ConsumedTrigger(const rosbag::MessageInstance &m) {
+        if (config_.rosbag.radar_trigger_topic.empty() ||
+            m.getTopic() != config_.rosbag.radar_trigger_topic)
+            return false;
+        try {
+            const auto header = m.instantiate<std_msgs::Header>();
+            if (header && !header->stamp.isZero()) {
+                trigger_ns_ = ToNanos(header->stamp);
+                trigger_unused_ = true;
+            }
+        } catch (const ros::Exception &) {
+            // A damaged trigger: the scan after it finds no fresh trigger and says so.
+        }
+        return true;
+    }
+
     void CheckTopicsExist(const std::vector<std::pair<std::string, std::string>> &topics) {
         const std::map<std::string, std::string> present = TopicTypes(bag_);
         for (const auto &[topic, key] : topics) {
@@ -186,6 +209,7 @@ class BagReader final : public DatasetReader {
         ExpectType(present, config_.rosbag.imu_topic, {"sensor_msgs/Imu"});
         ExpectType(present, config_.rosbag.ground_truth_topic,
                    {"nav_msgs/Odometry", "geometry_msgs/PoseStamped"});
+        ExpectType(present, config_.rosbag.radar_trigger_topic, {"std_msgs/Header"});
     }
 
     void ExpectType(const std::map<std::string, std::string> &present, const std::string &topic,
@@ -258,6 +282,17 @@ class BagReader final : public DatasetReader {
             event.problem = where + "message does not deserialize: " + e.what();
             return;
         }
+        if (!config_.rosbag.radar_trigger_topic.empty()) {
+            if (!trigger_unused_) {
+                event.kind = DatasetEvent::Kind::kBadScan;
+                event.problem = where + "no trigger on " + config_.rosbag.radar_trigger_topic +
+                                " (rosbag.radar_trigger_topic) since the previous scan: no stamp";
+                return;
+            }
+            event.stamp_ns =
+                trigger_ns_ + static_cast<int64_t>(config_.rosbag.radar_trigger_offset_s * 1e9);
+            trigger_unused_ = false;
+        }
         event.kind = DatasetEvent::Kind::kRadarScan;
         event.scan.stamp_ns = event.stamp_ns;
         event.removed_nonfinite_points = RemoveNonFinitePoints(event.scan);
@@ -271,6 +306,8 @@ class BagReader final : public DatasetReader {
     bool finished_ = false;
     std::size_t radar_count_ = 0;
     std::size_t message_count_ = 0;
+    int64_t trigger_ns_ = 0;       ///< the newest radar trigger's stamp
+    bool trigger_unused_ = false;  ///< no scan took trigger_ns_ yet
 };
 
 }  // namespace

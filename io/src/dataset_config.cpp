@@ -137,6 +137,10 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
     config.rosbag.radar_topic = rosbag.Get<std::string>("radar_topic", config.rosbag.radar_topic);
     config.rosbag.imu_topic = rosbag.Get<std::string>("imu_topic", "");
     config.rosbag.ground_truth_topic = rosbag.Get<std::string>("ground_truth_topic", "");
+    config.rosbag.radar_trigger_topic = rosbag.Get<std::string>("radar_trigger_topic", "");
+    config.rosbag.radar_trigger_offset_s = rosbag.Get<double>("radar_trigger_offset_s", 0.0);
+    if (!(std::abs(config.rosbag.radar_trigger_offset_s) < 1.0))
+        rosbag.Fail("radar_trigger_offset_s", "must be a number of seconds in (-1, 1)");
     rosbag.RejectUnknownKeys();
     if (config.reader == ReaderKind::kRosbag) {
         if (config.rosbag.path.empty()) top.Fail("rosbag.path", "is required for reader: rosbag");
@@ -185,6 +189,16 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
     extrinsics.RejectUnknownKeys();
 
     YamlSection vehicle = top.Child("vehicle");
+    vehicle.ReadEnum("model", config.vehicle.model,
+                     {{"ackermann", VehicleModel::kAckermann},
+                      {"skid_steer", VehicleModel::kSkidSteer},
+                      {"unconstrained", VehicleModel::kUnconstrained}});
+    if (config.vehicle.model == VehicleModel::kSkidSteer) {
+        config.vehicle.half_wheelbase_m = 0.0;  // both ICR axes on the base origin's line
+        if (vehicle.Has("half_wheelbase_m") && vehicle.Get<double>("half_wheelbase_m", 0.0) != 0.0)
+            vehicle.Fail("half_wheelbase_m",
+                         "must be 0 (or absent) for model skid_steer: both ICR axes on one line");
+    }
     // m = 0 is allowed: both ICR axes on one line (a skid-steer base, the paper's Hugin).
     config.vehicle.half_wheelbase_m =
         vehicle.Get<double>("half_wheelbase_m", config.vehicle.half_wheelbase_m);
@@ -263,6 +277,12 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
         out << YAML::Key << "radar_topic" << YAML::Value << config.rosbag.radar_topic;
         out << YAML::Key << "imu_topic" << YAML::Value << config.rosbag.imu_topic;
         out << YAML::Key << "ground_truth_topic" << YAML::Value << config.rosbag.ground_truth_topic;
+        if (!config.rosbag.radar_trigger_topic.empty()) {
+            out << YAML::Key << "radar_trigger_topic" << YAML::Value
+                << config.rosbag.radar_trigger_topic;
+            out << YAML::Key << "radar_trigger_offset_s" << YAML::Value
+                << config.rosbag.radar_trigger_offset_s;
+        }
         out << YAML::EndMap;
     } else {
         out << YAML::Key << "folder" << YAML::Value << YAML::BeginMap;
@@ -302,6 +322,7 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
     EmitTransform(out, "T_base_imu", config.extrinsics.T_base_imu);
     out << YAML::EndMap;
     out << YAML::Key << "vehicle" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "model" << YAML::Value << ToString(config.vehicle.model);
     out << YAML::Key << "half_wheelbase_m" << YAML::Value << config.vehicle.half_wheelbase_m;
     const KinematicModelNoise &noise = config.vehicle.model_noise;
     out << YAML::Key << "model_noise" << YAML::Value << YAML::BeginMap;

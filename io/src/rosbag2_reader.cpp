@@ -52,6 +52,10 @@ class Rosbag2Reader final : public DatasetReader {
   public:
     explicit Rosbag2Reader(const DatasetConfig &config) : config_(config) {
         const RosbagSource &bag = config.rosbag;
+        if (!bag.radar_trigger_topic.empty())
+            throw DatasetError(bag.path +
+                               ": rosbag.radar_trigger_topic is read from ROS1 bags only; stamp "
+                               "the scans in the recording or leave the key empty");
         std::vector<std::pair<std::string, std::string>> topics{
             {bag.radar_topic, "rosbag.radar_topic"}};
         if (!bag.imu_topic.empty()) topics.emplace_back(bag.imu_topic, "rosbag.imu_topic");

@@ -20,6 +20,22 @@ const char *ToString(OdometryMethod method) {
     return "?";
 }
 
+const char *ToString(FallbackCause cause) {
+    switch (cause) {
+        case FallbackCause::kNone:
+            return "none";
+        case FallbackCause::kInvalidVelocity:
+            return "invalid_velocity";
+        case FallbackCause::kNoImuSamples:
+            return "no_imu_samples";
+        case FallbackCause::kAngularRateLimit:
+            return "angular_rate_limit";
+        case FallbackCause::kDopplerRotation:
+            return "doppler_rotation";
+    }
+    return "?";
+}
+
 OdometryMethod ParseOdometryMethod(const std::string &name) {
     for (OdometryMethod m :
          {OdometryMethod::kDoppler, OdometryMethod::kImu, OdometryMethod::kImuDoppler}) {
@@ -36,9 +52,25 @@ void DopplerOdometryConfig::Validate() const {
         throw std::invalid_argument("odometry.max_angular_rate_radps: must be > 0");
 }
 
+namespace {
+
+// The Doppler alone gives a rotation only through a kinematic constraint.
+const DopplerOdometryConfig &CheckedFor(const DopplerOdometryConfig &config,
+                                        const VehicleGeometry &geometry) {
+    config.Validate();
+    if (geometry.model == VehicleModel::kUnconstrained && config.method == OdometryMethod::kDoppler)
+        throw std::invalid_argument(
+            "vehicle.model: unconstrained (no kinematic constraint: hand-held, drone, legged) "
+            "gives no rotation from the Doppler; use the gyro: --method imu+doppler (Doppler "
+            "velocity, gyro rotation) or --method imu (prior imu+doppler for dorado map)");
+    return config;
+}
+
+}  // namespace
+
 DopplerOdometry::DopplerOdometry(DopplerOdometryConfig config, const Extrinsics &extrinsics,
                                  const VehicleGeometry &geometry)
-    : config_((config.Validate(), std::move(config))),
+    : config_(CheckedFor(config, geometry)),
       estimator_(config_.ego_velocity),
       model_(extrinsics, geometry) {}
 
@@ -85,8 +117,9 @@ void DopplerOdometry::Restart(const Eigen::Isometry3d &T_world_base) {
 
 void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, OdometryStep &step) {
     const bool has_gyro = gyro_base_radps.allFinite();
-    auto fallback = [&](const std::string &why) {
+    auto fallback = [&](FallbackCause cause, const std::string &why) {
         step.used_fallback = true;
+        step.fallback_cause = cause;
         step.fallback_reason = why + (has_last_twist_ ? "; used the last valid twist"
                                                       : "; no valid twist yet, used zero");
         step.v_base_used_mps = last_v_base_;
@@ -106,24 +139,26 @@ void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, Odomet
         if (has_gyro)
             accept(Eigen::Vector3d::Zero(), gyro_base_radps, Eigen::Matrix<double, 6, 6>::Zero());
         else
-            fallback("no IMU samples in the interval");
+            fallback(FallbackCause::kNoImuSamples, "no IMU samples in the interval");
         return;
     }
-    if (!step.ego.valid) return fallback(step.ego.reason);
+    if (!step.ego.valid) return fallback(FallbackCause::kInvalidVelocity, step.ego.reason);
     // eq. (7)'s covariance with the model's own error, or the angular-rate prior's posterior.
     Eigen::Vector3d v_base = step.motion.v_base_mps, omega_base = step.motion.omega_base_radps;
     Eigen::Matrix<double, 6, 6> covariance;
     covariance << step.motion.cov_v_base, step.motion.cov_v_omega_base,
         step.motion.cov_v_omega_base.transpose(), step.motion.cov_omega_base;
     covariance += step.motion.cov_model;
-    if (config_.angular_rate_prior) {
+    if (config_.angular_rate_prior && model_.constrained()) {
         const VehicleTwist plausible = model_.PlausibleTwist(step.motion);
         v_base = plausible.v_base_mps;
         omega_base = plausible.omega_base_radps;
         covariance = plausible.covariance;
     }
-    if (config_.zero_velocity_update && step.ego.stationary)
+    if (config_.zero_velocity_update && step.ego.stationary) {
+        step.zero_velocity_update = true;
         return accept(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), covariance);
+    }
 
     if (config_.method == OdometryMethod::kImuDoppler) {
         if (has_gyro) {
@@ -134,12 +169,18 @@ void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, Odomet
             return accept(model_.BaseVelocity(step.ego.v_radar_mps, gyro_base_radps),
                           gyro_base_radps, gyro_covariance);
         }
+        if (!model_.constrained())
+            return fallback(FallbackCause::kNoImuSamples,
+                            "no IMU samples in the interval (an unconstrained platform has no "
+                            "rotation without the gyro)");
         step.fallback_reason = "no IMU samples in the interval: rotation from the Doppler model";
+        step.fallback_cause = FallbackCause::kDopplerRotation;
         step.used_fallback = true;
     }
     if (omega_base.norm() > config_.max_angular_rate_radps) {
-        return fallback("angular rate " + std::to_string(omega_base.norm()) +
-                        " rad/s above max_angular_rate_radps");
+        return fallback(FallbackCause::kAngularRateLimit,
+                        "angular rate " + std::to_string(omega_base.norm()) +
+                            " rad/s above max_angular_rate_radps");
     }
     const std::string note = step.fallback_reason;
     accept(v_base, omega_base, covariance);

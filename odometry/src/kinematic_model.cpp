@@ -12,7 +12,14 @@ KinematicModel::KinematicModel(const Extrinsics &extrinsics, const VehicleGeomet
     : R_base_radar_(extrinsics.T_base_radar.linear()),
       p_base_radar_(extrinsics.T_base_radar.translation()),
       half_wheelbase_m_(geometry.half_wheelbase_m),
-      model_noise_(geometry.model_noise) {
+      model_noise_(geometry.model_noise),
+      constrained_(geometry.model != VehicleModel::kUnconstrained) {
+    if (!constrained_) {
+        // No constraint: the Doppler gives the sensor velocity and nothing about the rotation.
+        J_omega_.setZero();
+        J_v_base_ = R_base_radar_;
+        return;
+    }
     const double s_x = p_base_radar_.x(), m = half_wheelbase_m_;
     if (!std::isfinite(s_x) || std::abs(s_x) < 1e-3)
         throw std::invalid_argument(
@@ -52,6 +59,7 @@ VehicleMotion KinematicModel::Motion(const Eigen::Vector3d &v_radar,
 //   s_x
 // and, through v_base = v_s + s x omega (v_s is measured, not modelled), v_base: Hat(s) d_omega.
 Eigen::Matrix<double, 6, 3> KinematicModel::ViolationJacobian() const {
+    if (!constrained_) return Eigen::Matrix<double, 6, 3>::Zero();  // no constraint to violate
     const Eigen::Vector3d &s = p_base_radar_;
     const double m = half_wheelbase_m_;
     Eigen::Matrix3d G_omega;
@@ -65,6 +73,7 @@ Eigen::Matrix<double, 6, 3> KinematicModel::ViolationJacobian() const {
 
 Eigen::Matrix<double, 6, 6> KinematicModel::ModelCovariance(
     const Eigen::Vector3d &v_base, const Eigen::Vector3d &omega_base) const {
+    if (!constrained_) return Eigen::Matrix<double, 6, 6>::Zero();
     const KinematicModelNoise &n = model_noise_;
     const double yaw_rate = std::abs(omega_base.z()), speed = std::abs(v_base.x());
     const double icr = n.sigma_icr_x_m * yaw_rate;

@@ -75,6 +75,7 @@ TEST_F(CmdOdometry, DopplerOdometryFollowsTheCircleAndReportsTheBadScan) {
     const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
     EXPECT_EQ(summary["scans"], 60);
     EXPECT_EQ(summary["scans_with_fallback_twist"], 1);
+    EXPECT_EQ(summary["fallback_causes"]["invalid_velocity"], 1);  // the bad scan, by cause
     EXPECT_TRUE(summary["stopped_early"].is_null());                          // ran to the end
     EXPECT_NEAR(summary["inlier_ratio"]["median"].get<double>(), 0.8, 0.01);  // 20 % moving
 
@@ -83,6 +84,8 @@ TEST_F(CmdOdometry, DopplerOdometryFollowsTheCircleAndReportsTheBadScan) {
     std::getline(csv, header);
     EXPECT_EQ(header.rfind("t,v_radar_x,v_radar_y,v_radar_z,cov_v_xx", 0), 0u);
     EXPECT_NE(header.find("gyro_base_x,gyro_base_y,gyro_base_z,time_ms,cov_omega_model_xx"),
+              std::string::npos);
+    EXPECT_NE(header.find("cov_omega_model_zz,fallback_cause,zero_velocity_update"),
               std::string::npos);
     int rows = 0, invalid = 0;
     // The model's yaw-rate variance with the default vehicle.model_noise, by hand: the rear axle's
@@ -94,9 +97,12 @@ TEST_F(CmdOdometry, DopplerOdometryFollowsTheCircleAndReportsTheBadScan) {
     while (std::getline(csv, line)) {
         ++rows;
         invalid += line.find(",0,\"") != std::string::npos;
-        if (rows == 20) {
-            EXPECT_NEAR(std::stod(line.substr(line.rfind(',') + 1)), expected_zz,
+        if (rows == 20) {  // cov_omega_model_zz, before fallback_cause and zero_velocity_update
+            std::string head = line.substr(0, line.rfind(','));
+            head = head.substr(0, head.rfind(','));
+            EXPECT_NEAR(std::stod(head.substr(head.rfind(',') + 1)), expected_zz,
                         0.05 * expected_zz);
+            EXPECT_EQ(line.substr(line.size() - 7), ",none,0") << line;  // its own twist, moving
         }
     }
     EXPECT_EQ(rows, 60);

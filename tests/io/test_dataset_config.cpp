@@ -40,7 +40,8 @@ class DatasetConfigTest : public ::testing::Test {
 };
 
 TEST_F(DatasetConfigTest, ShippedDescriptionsLoad) {
-    for (const char *name : {"hugin", "view_of_delft", "coloradar", "ntu4dradlm"}) {
+    for (const char *name :
+         {"hugin", "view_of_delft", "coloradar", "ntu4dradlm", "ti_mmwave", "rio"}) {
         const std::string path = std::string(DORADO_SOURCE_DIR) + "/configs/" + name + ".yaml";
         EXPECT_NO_THROW((void)LoadDatasetConfig(path)) << path;
     }
@@ -154,6 +155,31 @@ TEST_F(DatasetConfigTest, ResolveDatasetAcceptsBagsYamlAndFolders) {
     fs::copy_file(dir_ / "d.yaml", dir_ / "dataset.yaml");
     EXPECT_EQ(ResolveDataset(dir_.string()).rosbag.path, (dir_ / "x.bag").string());
     EXPECT_THROW((void)ResolveDataset((dir_ / "d.txt").string()), ConfigError);
+}
+
+}  // namespace
+}  // namespace dorado::io
+
+namespace dorado::io {
+namespace {
+
+TEST_F(DatasetConfigTest, VehicleModelAndRadarTrigger) {
+    const DatasetConfig c = LoadDatasetConfig(WriteYaml(
+        "rosbag: {path: x.bag, radar_trigger_topic: /trigger, radar_trigger_offset_s: -0.09}\n"
+        "vehicle: {model: unconstrained}\n"));
+    EXPECT_EQ(c.vehicle.model, VehicleModel::kUnconstrained);
+    EXPECT_EQ(c.rosbag.radar_trigger_topic, "/trigger");
+    EXPECT_DOUBLE_EQ(c.rosbag.radar_trigger_offset_s, -0.09);
+    const DatasetConfig back = LoadDatasetConfig(WriteYaml(DatasetConfigToYaml(c)));
+    EXPECT_EQ(back.vehicle.model, VehicleModel::kUnconstrained);
+    EXPECT_EQ(back.rosbag.radar_trigger_topic, "/trigger");
+    EXPECT_EQ(LoadDatasetConfig(WriteYaml("rosbag: {path: x.bag}\nvehicle: {model: skid_steer}\n"))
+                  .vehicle.half_wheelbase_m,
+              0.0);
+    ExpectError("rosbag: {path: x.bag}\nvehicle: {model: drone}\n", "vehicle.model");
+    ExpectError("rosbag: {path: x.bag}\nvehicle: {model: skid_steer, half_wheelbase_m: 0.3}\n",
+                "half_wheelbase_m");
+    ExpectError("rosbag: {path: x.bag, radar_trigger_offset_s: 2}\n", "radar_trigger_offset_s");
 }
 
 }  // namespace

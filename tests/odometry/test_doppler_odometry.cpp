@@ -206,3 +206,34 @@ TEST(DopplerOdometry, StandingStillIntegratesNothing) {
 
 }  // namespace
 }  // namespace dorado::odometry
+
+namespace dorado::odometry {
+namespace {
+
+// A platform with no kinematic constraint: Doppler-only rotation is refused; with the gyro the
+// twist is v_base = R v_radar - omega x s and omega = the gyro (here: the rig's true twist, exact);
+// without a gyro sample the scan falls back with the cause no_imu_samples.
+TEST(DopplerOdometry, UnconstrainedPlatformTakesTheRotationFromTheGyroOnly) {
+    Rig rig;
+    rig.extrinsics.T_base_radar.translation() = Eigen::Vector3d(0.03, -0.03, 0.06);  // hand-held
+    rig.xi << 1.2, 0.3, -0.2, 0.4, -0.3, 0.9;  // any twist: nothing constrains it
+    rig.geometry.model = VehicleModel::kUnconstrained;
+    DopplerOdometryConfig config;
+    EXPECT_THROW(DopplerOdometry(config, rig.extrinsics, rig.geometry), std::invalid_argument);
+    config.method = OdometryMethod::kImuDoppler;
+    DopplerOdometry odometry(config, rig.extrinsics, rig.geometry);
+    const Eigen::Vector3d gyro = rig.xi.tail<3>();
+    for (int k = 0; k < 10; ++k) {
+        const auto step = odometry.Register(rig.Scan(k * 100'000'000, 0.0, k), gyro);
+        ASSERT_FALSE(step.used_fallback) << k;
+        EXPECT_LT((step.v_base_used_mps - rig.xi.head<3>()).norm(), 1e-9);
+        EXPECT_LT((step.omega_base_used_radps - gyro).norm(), 1e-12);
+    }
+    EXPECT_LT(PoseError(odometry.trajectory().poses().back().T_world_body, rig.Truth(0.9)), 1e-9);
+    const auto step = odometry.Register(rig.Scan(1'000'000'000, 0.0, 10));  // no gyro sample
+    EXPECT_TRUE(step.used_fallback);
+    EXPECT_EQ(step.fallback_cause, FallbackCause::kNoImuSamples);
+}
+
+}  // namespace
+}  // namespace dorado::odometry

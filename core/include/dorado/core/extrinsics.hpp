@@ -40,10 +40,40 @@ struct KinematicModelNoise {
     Eigen::Vector3d angular_rate_prior_sigma_radps{0.5, 0.5, 1.5};
 };
 
+/// Which kinematic constraint the platform obeys (the dataset's `vehicle.model`).
+enum class VehicleModel {
+    /// The paper's model (section III-B): Z-ICR on the rear axle (x = 0), Y-ICR at x =
+    /// half_wheelbase_m, no roll. The Doppler alone gives the rotation (eq. 5).
+    kAckermann,
+    /// The same constraints with both ICR axes on one line (half_wheelbase_m = 0): a skid-steer
+    /// base
+    /// (the paper's Husky).
+    kSkidSteer,
+    /// No kinematic constraint (hand-held, drone, legged robot): the Doppler gives the velocity
+    /// only; the rotation must come from a gyro (imu+doppler), Doppler-only rotation is refused.
+    kUnconstrained,
+};
+
+/// "ackermann" | "skid_steer" | "unconstrained".
+[[nodiscard]] inline const char *ToString(VehicleModel model) {
+    switch (model) {
+        case VehicleModel::kAckermann:
+            return "ackermann";
+        case VehicleModel::kSkidSteer:
+            return "skid_steer";
+        case VehicleModel::kUnconstrained:
+            return "unconstrained";
+    }
+    return "?";
+}
+
 struct VehicleGeometry {
     /// Half the distance between the two axles [m] (the paper's m): the Y-ICR axis is at x = m.
     double half_wheelbase_m = 0.256;
     KinematicModelNoise model_noise;
+    /// The platform's kinematic constraint; kUnconstrained ignores half_wheelbase_m and
+    /// model_noise. Last, so that {m, noise} aggregates keep their meaning.
+    VehicleModel model = VehicleModel::kAckermann;
 };
 
 }  // namespace dorado

@@ -22,6 +22,13 @@ struct RosbagSource {
     std::string imu_topic;                                ///< sensor_msgs/Imu; empty = none
     std::string
         ground_truth_topic;  ///< nav_msgs/Odometry or geometry_msgs/PoseStamped; empty = none
+    /// std_msgs/Header published when the radar starts a frame (ROS1 bags only; empty = none). Each
+    /// scan is stamped with the newest trigger recorded before it plus radar_trigger_offset_s,
+    /// instead of its own header stamp: for drivers that leave the header stamp zero (the
+    /// ti_mmwave_rospkg's) or stamp it on another clock than the IMU.
+    std::string radar_trigger_topic;
+    /// Added to the trigger stamp [s]: half the radar frame (its mid-exposure) is a good choice.
+    double radar_trigger_offset_s = 0.0;
 };
 
 struct FolderSource {

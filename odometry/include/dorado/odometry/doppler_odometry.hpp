@@ -31,6 +31,19 @@ enum class OdometryMethod {
     return method != OdometryMethod::kDoppler;
 }
 
+/// Why a scan's twist is not its own Doppler + model (or gyro) twist: every fallback and every
+/// substitution has exactly one cause, which `dorado odometry` counts.
+enum class FallbackCause {
+    kNone,              ///< the scan's own twist
+    kInvalidVelocity,   ///< no valid ego-velocity (EgoVelocityResult::reason says why)
+    kNoImuSamples,      ///< imu / imu+doppler: no gyro sample in the scan interval
+    kAngularRateLimit,  ///< the Doppler model's |omega| above max_angular_rate_radps
+    kDopplerRotation,   ///< imu+doppler without gyro samples: the Doppler model's rotation used
+};
+
+/// "none" | "invalid_velocity" | "no_imu_samples" | "angular_rate_limit" | "doppler_rotation".
+[[nodiscard]] const char *ToString(FallbackCause cause);
+
 struct DopplerOdometryConfig {
     EgoVelocityConfig ego_velocity;
     OdometryMethod method = OdometryMethod::kDoppler;
@@ -62,14 +75,17 @@ struct OdometryStep {
     /// (kImuDoppler), eq. (7)'s blocks. Zero for a fallback twist.
     Eigen::Matrix<double, 6, 6> covariance_used = Eigen::Matrix<double, 6, 6>::Zero();
     bool used_fallback = false;
-    std::string fallback_reason;
+    FallbackCause fallback_cause = FallbackCause::kNone;  ///< kNone iff !used_fallback
+    std::string fallback_reason;                          ///< the cause in words, with numbers
+    bool zero_velocity_update = false;  ///< a stationary scan: a zero twist was integrated
     Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();  ///< pose after this scan
 };
 
 class DopplerOdometry {
   public:
-    /// Validates the config; throws std::invalid_argument for a bad config or an unobservable
-    /// mounting (see KinematicModel).
+    /// Validates the config; throws std::invalid_argument for a bad config, an unobservable
+    /// mounting (see KinematicModel) or Doppler-only rotation (OdometryMethod::kDoppler) on a
+    /// VehicleModel::kUnconstrained platform.
     DopplerOdometry(DopplerOdometryConfig config, const Extrinsics &extrinsics,
                     const VehicleGeometry &geometry);
 

@@ -52,8 +52,13 @@ struct VehicleTwist {
 class KinematicModel {
   public:
     /// Throws std::invalid_argument when s_x = 0 (yaw unobservable) or s_x = m (pitch
-    /// unobservable) to within 1 mm.
+    /// unobservable) to within 1 mm. With VehicleModel::kUnconstrained there is no constraint and
+    /// no check: Motion() then gives the sensor velocity R_base_radar v_radar as v_base, a zero
+    /// omega and no model noise (the rotation must come from a gyro, see BaseVelocity).
     KinematicModel(const Extrinsics &extrinsics, const VehicleGeometry &geometry);
+
+    /// False for VehicleModel::kUnconstrained: the Doppler says nothing about the rotation.
+    [[nodiscard]] bool constrained() const { return constrained_; }
 
     /// Vehicle motion from the radar velocity in the radar frame and its covariance. Covariances
     /// by first-order propagation (eq. 7): J C_v J^T with J the exact (linear) Jacobian; the
@@ -96,6 +101,7 @@ class KinematicModel {
     Eigen::Vector3d p_base_radar_;  ///< s, the radar position in the base frame
     double half_wheelbase_m_;
     KinematicModelNoise model_noise_;
+    bool constrained_ = true;
     Eigen::Matrix3d J_omega_;   ///< omega_base = J_omega_ v_radar
     Eigen::Matrix3d J_v_base_;  ///< v_base = J_v_base_ v_radar
 };
