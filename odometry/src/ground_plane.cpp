@@ -1,6 +1,7 @@
 #include "dorado/odometry/ground_plane.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -88,6 +89,7 @@ void GroundPlaneConfig::Validate() const {
     require(inlier_threshold_m > 0.0, "inlier_threshold_m", "must be > 0");
     require(ransac_iterations >= 1, "ransac_iterations", "must be >= 1");
     require(min_points >= 3, "min_points", "must be >= 3");
+    require(min_depth_spread_m >= 0.0, "min_depth_spread_m", "must be >= 0");
     require(elevation_sigma_deg >= 0.0, "elevation_sigma_deg", "must be >= 0");
 }
 
@@ -154,13 +156,14 @@ GroundObservation FitGroundPlane(const GroundPlaneConfig &c, const Eigen::Matrix
     PlaneFit fit;
     std::vector<int> inliers;
     std::vector<double> w;
+    double scale = 1.0;  // the residuals' variance relative to the model's, from the last round
     for (int round = 0; round < 3; ++round) {
         inliers.clear();
         w.clear();
         for (int i : candidates) {
             const double r = p.col(i).norm();
             const double var = floor2 + r * r * sigma_el * sigma_el;
-            const double gate = std::max(c.inlier_threshold_m, 3.0 * std::sqrt(var));
+            const double gate = std::max(c.inlier_threshold_m, 3.0 * std::sqrt(scale * var));
             if (std::abs(PlaneDistance(theta, p.col(i))) > gate) continue;
             inliers.push_back(i);
             w.push_back(floor2 / var);
@@ -169,8 +172,18 @@ GroundObservation FitGroundPlane(const GroundPlaneConfig &c, const Eigen::Matrix
         fit = WeightedPlane(p, inliers, w);
         if (!fit.ok) return fail(GroundFallback::kDegenerate);
         theta = fit.theta;
+        scale = std::clamp(fit.weighted_rss / std::max<double>(1.0, inliers.size() - 3.0) / floor2,
+                           0.1, 10.0);
     }
     obs.inliers = static_cast<int>(inliers.size());
+    // A band of points at one distance fixes the plane's roll but hardly its pitch (the band of a
+    // road steeper than the window at its near end looks like a flatter plane).
+    std::vector<double> distances;
+    for (int i : inliers) distances.push_back(p.col(i).head<2>().norm());
+    std::sort(distances.begin(), distances.end());
+    const std::size_t n = distances.size();
+    if (distances[n * 95 / 100] - distances[n * 5 / 100] < c.min_depth_spread_m)
+        return fail(GroundFallback::kDegenerate);
     obs.height_m = theta.x();
     obs.slope = theta.tail<2>();
     if (obs.slope.norm() > tan_tilt) return fail(GroundFallback::kTilted);
@@ -179,12 +192,12 @@ GroundObservation FitGroundPlane(const GroundPlaneConfig &c, const Eigen::Matrix
     // Covariance of [h, a, b]: the residual-scaled inverse normal matrix (eq. 6's form; the
     // weights carry the relative variances, the residuals their scale).
     const double dof = std::max(1, obs.inliers - 3);
-    const double scale = fit.weighted_rss / dof;
-    const Eigen::Matrix3d cov_theta = scale * fit.normal.inverse();
+    const double sigma2 = fit.weighted_rss / dof;
+    const Eigen::Matrix3d cov_theta = sigma2 * fit.normal.inverse();
     Eigen::Matrix2d J;
     obs.roll_pitch_rad = RollPitchFromSlope(obs.slope, &J);
     obs.cov_roll_pitch = J * cov_theta.bottomRightCorner<2, 2>() * J.transpose();
-    obs.residual_sigma_m = std::sqrt(scale);
+    obs.residual_sigma_m = std::sqrt(sigma2);
     if (!obs.cov_roll_pitch.allFinite()) return fail(GroundFallback::kDegenerate);
     obs.valid = true;
     return obs;

@@ -76,6 +76,7 @@ void ReadGround(io::YamlSection m, odometry::GroundAttitudeConfig &c) {
     m.Read("inlier_threshold_m", p.inlier_threshold_m);
     m.Read("ransac_iterations", p.ransac_iterations);
     m.Read("min_points", p.min_points);
+    m.Read("min_depth_spread_m", p.min_depth_spread_m);
     m.Read("elevation_sigma_deg", p.elevation_sigma_deg);
     m.Read("seed", p.seed);
     m.RejectUnknownKeys();

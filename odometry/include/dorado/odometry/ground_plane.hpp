@@ -31,6 +31,9 @@ struct GroundPlaneConfig {
     double inlier_threshold_m = 0.15;
     int ransac_iterations = 60;
     int min_points = 30;  ///< plane inliers needed for an observation
+    /// The inliers' horizontal distances must spread over this much (5th to 95th percentile) [m]:
+    /// a band at one distance does not fix the pitch.
+    double min_depth_spread_m = 3.0;
     /// Elevation noise of the radar [deg] (from the dataset's radar section when > 0): a point at
     /// range r has vertical noise ~ r * sigma; the refit weights it accordingly.
     double elevation_sigma_deg = 1.0;
@@ -47,7 +50,7 @@ enum class GroundFallback : uint8_t {
     kNoPlane,          ///< RANSAC found no plane with min_points inliers within max_tilt_deg
     kTilted,           ///< the refit plane is tilted beyond max_tilt_deg
     kHeightMismatch,   ///< the refit plane is further than height_window_m from the expected one
-    kDegenerate,       ///< the inliers do not span an area (a line of points)
+    kDegenerate,       ///< the inliers span no area, or too short a range of distances
     kNoVelocity,       ///< the scan had no valid ego-velocity, so no static-point mask
 };
 
