@@ -67,6 +67,7 @@ void ReadGround(io::YamlSection m, odometry::GroundAttitudeConfig &c) {
     m.Read("road_slope_sigma_deg", c.road_slope_sigma_deg);
     m.Read("road_correlation_m", c.road_correlation_m);
     m.Read("attitude_random_walk_deg_per_sqrt_s", c.attitude_random_walk_deg_per_sqrt_s);
+    m.Read("initialize_from_ground", c.initialize_from_ground);
     odometry::GroundPlaneConfig &p = c.plane;
     m.Read("base_height_m", p.base_height_m);
     m.Read("height_window_m", p.height_window_m);
