@@ -25,14 +25,15 @@ void GroundAttitudeConfig::Validate() const {
 }
 
 GroundAttitudeFilter::GroundAttitudeFilter(GroundAttitudeConfig config)
-    : config_((config.Validate(), std::move(config))), initialized_(!config_.initialize_from_ground) {}
+    : config_((config.Validate(), std::move(config))),
+      initialized_(!config_.initialize_from_ground) {}
 
 void GroundAttitudeFilter::Predict(const Eigen::Matrix3d &cov_omega_base, double dt_s) {
     if (!(dt_s > 0.0)) return;
     const double q = std::pow(config_.attitude_random_walk_deg_per_sqrt_s * kDeg, 2);
     // Roll and pitch rates are the base's omega_x, omega_y to first order in roll and pitch.
-    P_ += cov_omega_base.topLeftCorner<2, 2>() * dt_s * dt_s +
-          q * dt_s * Eigen::Matrix2d::Identity();
+    P_ +=
+        cov_omega_base.topLeftCorner<2, 2>() * dt_s * dt_s + q * dt_s * Eigen::Matrix2d::Identity();
 }
 
 void GroundAttitudeFilter::Update(const GroundObservation &observation, double distance_m,

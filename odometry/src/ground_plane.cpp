@@ -34,8 +34,8 @@ PlaneFit WeightedPlane(const Eigen::Matrix3Xd &p, const std::vector<int> &idx,
     if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-10)) return fit;
     fit.theta = ldlt.solve(rhs);
     for (std::size_t k = 0; k < idx.size(); ++k) {
-        const double r = p(2, idx[k]) - fit.theta.dot(Eigen::Vector3d(1.0, p(0, idx[k]),
-                                                                      p(1, idx[k])));
+        const double r =
+            p(2, idx[k]) - fit.theta.dot(Eigen::Vector3d(1.0, p(0, idx[k]), p(1, idx[k])));
         fit.weighted_rss += w[k] * r * r;
     }
     fit.ok = fit.theta.allFinite();

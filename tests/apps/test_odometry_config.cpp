@@ -34,7 +34,8 @@ TEST(OdometryConfig, TheShippedFileReadsEveryGroundKey) {
 }
 
 TEST(OdometryConfig, GroundErrorsNameTheFileAndTheKey) {
-    const std::string bad = Write("ground_bad.yaml", "ground:\n  enabled: true\n  max_tilt_deg: 75\n");
+    const std::string bad =
+        Write("ground_bad.yaml", "ground:\n  enabled: true\n  max_tilt_deg: 75\n");
     const std::string message = ErrorOf(bad);
     EXPECT_NE(message.find(bad), std::string::npos) << message;
     EXPECT_NE(message.find("ground.max_tilt_deg"), std::string::npos) << message;

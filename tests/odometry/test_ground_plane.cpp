@@ -44,8 +44,8 @@ Eigen::Matrix3Xd MakeRoad(const Road &road, const GroundPlaneConfig &c, uint64_t
         // On the plane: n . (p - origin) = 0.
         const double z = origin.z() - (n.x() * xy.x() + n.y() * xy.y()) / n.z();
         Eigen::Vector3d p(xy.x(), xy.y(), z);
-        const double sigma = road.noise_scale * std::sqrt(floor2 + p.squaredNorm() * sigma_el *
-                                                                      sigma_el);
+        const double sigma =
+            road.noise_scale * std::sqrt(floor2 + p.squaredNorm() * sigma_el * sigma_el);
         p += sigma * gauss(rng) * n;
         if (u(rng) < road.outlier_fraction) p.z() += (u(rng) < 0.5 ? -1.0 : 1.0) * (1.0 + u(rng));
         points.col(i) = p;
@@ -206,7 +206,7 @@ TEST(GroundPlane, OdometryPullsAWrongInitialPitchTowardsTheRoad) {
     for (int enabled = 0; enabled < 2; ++enabled) {
         DopplerOdometryConfig config;
         config.ground.enabled = enabled == 1;
-        config.ground.road_correlation_m = 2.0;  // a short run: let the road count
+        config.ground.road_correlation_m = 2.0;        // a short run: let the road count
         config.ground.initialize_from_ground = false;  // the wrong start is taken as known...
         config.ground.attitude_random_walk_deg_per_sqrt_s = 2.0;  // ...but drifts quickly
         DopplerOdometry odometry(config, extrinsics, geometry);
@@ -217,7 +217,8 @@ TEST(GroundPlane, OdometryPullsAWrongInitialPitchTowardsTheRoad) {
                 LevelRoadScan(extrinsics, 1'000'000'000 + k * 66'666'667LL, 10 + k));
             with_ground += step.ground.observation.valid;
         }
-        final_pitch[enabled] = RollPitchYaw(odometry.trajectory().poses().back().T_world_body.linear()).y();
+        final_pitch[enabled] =
+            RollPitchYaw(odometry.trajectory().poses().back().T_world_body.linear()).y();
         if (enabled) {
             EXPECT_GT(with_ground, 140);
         }

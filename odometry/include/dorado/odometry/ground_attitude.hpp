@@ -38,7 +38,7 @@ struct GroundAttitudeConfig {
 /// What the filter did with one scan.
 struct GroundAttitudeStep {
     GroundObservation observation;
-    bool updated = false;                         ///< the attitude was corrected
+    bool updated = false;                                      ///< the attitude was corrected
     Eigen::Vector2d correction_rad = Eigen::Vector2d::Zero();  ///< roll, pitch added
     Eigen::Matrix2d cov_roll_pitch = Eigen::Matrix2d::Zero();  ///< after this scan [rad^2]
 };
@@ -69,7 +69,7 @@ class GroundAttitudeFilter {
   private:
     GroundAttitudeConfig config_;
     Eigen::Matrix2d P_ = Eigen::Matrix2d::Zero();  ///< covariance of [roll, pitch] error
-    bool initialized_ = false;                      ///< roll and pitch have been set
+    bool initialized_ = false;                     ///< roll and pitch have been set
 };
 
 }  // namespace dorado::odometry

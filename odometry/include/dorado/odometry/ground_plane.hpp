@@ -45,13 +45,13 @@ struct GroundPlaneConfig {
 
 /// Why a scan gave no ground observation.
 enum class GroundFallback : uint8_t {
-    kNone = 0,         ///< an observation was made
-    kFewCandidates,    ///< fewer than min_points static points in the ground window
-    kNoPlane,          ///< RANSAC found no plane with min_points inliers within max_tilt_deg
-    kTilted,           ///< the refit plane is tilted beyond max_tilt_deg
-    kHeightMismatch,   ///< the refit plane is further than height_window_m from the expected one
-    kDegenerate,       ///< the inliers span no area, or too short a range of distances
-    kNoVelocity,       ///< the scan had no valid ego-velocity, so no static-point mask
+    kNone = 0,        ///< an observation was made
+    kFewCandidates,   ///< fewer than min_points static points in the ground window
+    kNoPlane,         ///< RANSAC found no plane with min_points inliers within max_tilt_deg
+    kTilted,          ///< the refit plane is tilted beyond max_tilt_deg
+    kHeightMismatch,  ///< the refit plane is further than height_window_m from the expected one
+    kDegenerate,      ///< the inliers span no area, or too short a range of distances
+    kNoVelocity,      ///< the scan had no valid ego-velocity, so no static-point mask
 };
 
 /// "" | "few_ground_points" | "no_plane" | "tilted" | "height_mismatch" | "degenerate" |
