@@ -50,7 +50,19 @@ constexpr const char *kCsvHeader =
     "cov_omega_yz,cov_omega_zz,v_base_x,v_base_y,v_base_z,inliers,points,valid,reason,"
     "gyro_base_x,gyro_base_y,gyro_base_z,time_ms,cov_omega_model_xx,cov_omega_model_xy,"
     "cov_omega_model_xz,cov_omega_model_yy,cov_omega_model_yz,cov_omega_model_zz,fallback_cause,"
-    "zero_velocity_update\n";
+    "zero_velocity_update,"
+    "ground_valid,ground_reason,ground_roll_deg,ground_pitch_deg,ground_inliers,"
+    "ground_correction_roll_deg,ground_correction_pitch_deg\n";
+
+// The ground-plane attitude columns (ground.enabled; the reason names a scan without ground).
+void AppendGround(std::ostream &row, const odometry::GroundAttitudeStep &g) {
+    constexpr double kDeg = 180.0 / M_PI;
+    const odometry::GroundObservation &o = g.observation;
+    row << ',' << (o.valid ? 1 : 0) << ',' << odometry::ToString(o.fallback) << ','
+        << Num(o.roll_pitch_rad.x() * kDeg) << ',' << Num(o.roll_pitch_rad.y() * kDeg) << ','
+        << o.inliers << ',' << Num(g.correction_rad.x() * kDeg) << ','
+        << Num(g.correction_rad.y() * kDeg);
+}
 
 std::string CsvRow(const odometry::OdometryStep &step, Eigen::Index points,
                    const Eigen::Vector3d &gyro_base, double time_ms) {
@@ -75,6 +87,7 @@ std::string CsvRow(const odometry::OdometryStep &step, Eigen::Index points,
     // Every fallback or substitution has one cause (none for the scan's own twist).
     row << ',' << odometry::ToString(step.fallback_cause) << ','
         << (step.zero_velocity_update ? 1 : 0);
+    AppendGround(row, step.ground);
     row << '\n';
     return row.str();
 }
@@ -138,6 +151,8 @@ void RunOdometry(const OdometryOptions &opt) {
     std::vector<double> times_ms, inlier_ratios;
     std::map<std::string, int> invalid_reasons, fallback_causes;
     std::size_t fallbacks = 0, zero_velocity_updates = 0;
+    std::size_t ground_scans = 0;
+    std::map<std::string, int> ground_fallbacks;
     ScanLoop loop(front_end);
     StreamGuard guard;  // Ctrl-C or a reader error mid-stream: stop, write what was done
     loop.Run(*reader, guard, progress,
@@ -146,6 +161,11 @@ void RunOdometry(const OdometryOptions &opt) {
                  fallbacks += step.used_fallback;
                  zero_velocity_updates += step.zero_velocity_update;
                  if (step.used_fallback) fallback_causes[odometry::ToString(step.fallback_cause)]++;
+                 if (config.odometry.ground.enabled && step.integrated) {
+                     const auto &ground = step.ground.observation;
+                     ground_scans += ground.valid;
+                     if (!ground.valid) ground_fallbacks[odometry::ToString(ground.fallback)]++;
+                 }
                  times_ms.push_back(result.times.total_ms);
                  if (!step.ego.valid && method != odometry::OdometryMethod::kImu) {
                      invalid_reasons[step.ego.reason.substr(0, step.ego.reason.find(':'))]++;
@@ -177,6 +197,10 @@ void RunOdometry(const OdometryOptions &opt) {
         {"inlier_ratio", Stats(inlier_ratios)},
         {"time_per_scan_ms", Stats(times_ms)},
         {"path_length_m", front_end.trajectory().PathLength()}};
+    if (config.odometry.ground.enabled) {
+        summary["ground"] = {{"scans_with_ground", ground_scans},
+                             {"scans_without_ground", ground_fallbacks}};
+    }
     AddStreamCounts(loop, summary);
     WriteSummary(opt.out, summary);
     std::fprintf(stderr,

@@ -48,6 +48,7 @@ OdometryMethod ParseOdometryMethod(const std::string &name) {
 
 void DopplerOdometryConfig::Validate() const {
     ego_velocity.Validate();
+    ground.Validate();
     if (!(max_angular_rate_radps > 0.0))
         throw std::invalid_argument("odometry.max_angular_rate_radps: must be > 0");
 }
@@ -72,7 +73,14 @@ DopplerOdometry::DopplerOdometry(DopplerOdometryConfig config, const Extrinsics 
                                  const VehicleGeometry &geometry)
     : config_(CheckedFor(config, geometry)),
       estimator_(config_.ego_velocity),
-      model_(extrinsics, geometry) {}
+      model_(extrinsics, geometry),
+      T_base_radar_(extrinsics.T_base_radar),
+      ground_filter_([this] {
+          GroundAttitudeConfig ground = config_.ground;
+          const double sigma = config_.ego_velocity.sensor.elevation_sigma_deg;
+          if (sigma > 0.0) ground.plane.elevation_sigma_deg = sigma;
+          return ground;
+      }()) {}
 
 OdometryStep DopplerOdometry::Register(const RadarScan &scan_radar,
                                        const Eigen::Vector3d &gyro_base_radps) {
@@ -99,6 +107,7 @@ OdometryStep DopplerOdometry::Register(const RadarScan &scan_radar,
     // body-frame twist integrated over dt.
     if (step.dt_s > 0.0) T_world_base_ = T_world_base_ * ExpSE3(xi);
     T_world_base_.linear() = ExpSO3(LogSO3(T_world_base_.linear()));  // keep R orthonormal
+    if (config_.ground.enabled) CorrectAttitude(scan_radar, step);
     trajectory_.Append(scan_radar.stamp_ns, T_world_base_);
     step.T_world_base = T_world_base_;
     step.integrated = true;
@@ -110,9 +119,28 @@ OdometryStep DopplerOdometry::Register(const RadarScan &scan_radar,
 void DopplerOdometry::Restart(const Eigen::Isometry3d &T_world_base) {
     T_world_base_ = T_world_base;
     restarted_ = true;
+    ground_filter_.Reset();
     has_last_twist_ = false;
     last_v_base_.setZero();
     last_omega_base_.setZero();
+}
+
+void DopplerOdometry::CorrectAttitude(const RadarScan &scan_radar, OdometryStep &step) {
+    ground_filter_.Predict(step.covariance_used.bottomRightCorner<3, 3>(), step.dt_s);
+    if (!step.ego.valid) {
+        // No static mask: no ground either (counted with the scan's own fallback).
+        step.ground.observation.fallback = GroundFallback::kNoVelocity;
+        step.ground.cov_roll_pitch = ground_filter_.covariance();
+        return;
+    }
+    // Frames: x_base = T_base_radar x_radar; the ground is sought among the static points.
+    const Eigen::Matrix3Xd points_base = T_base_radar_ * scan_radar.xyz_radar;
+    std::vector<bool> use(step.ego.labels.size());
+    for (std::size_t i = 0; i < use.size(); ++i) use[i] = step.ego.labels[i] == PointLabel::kStatic;
+    const GroundObservation observation =
+        FitGroundPlane(ground_filter_.config().plane, points_base, use);
+    ground_filter_.Update(observation, step.v_base_used_mps.norm() * step.dt_s, T_world_base_,
+                          step.ground);
 }
 
 void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, OdometryStep &step) {

@@ -62,6 +62,27 @@ void ReadEgoVelocity(io::YamlSection m, odometry::EgoVelocityConfig &c) {
     m.RejectUnknownKeys();
 }
 
+void ReadGround(io::YamlSection m, odometry::GroundAttitudeConfig &c) {
+    m.Read("enabled", c.enabled);
+    m.Read("road_slope_sigma_deg", c.road_slope_sigma_deg);
+    m.Read("road_correlation_m", c.road_correlation_m);
+    m.Read("attitude_random_walk_deg_per_sqrt_s", c.attitude_random_walk_deg_per_sqrt_s);
+    m.Read("initialize_from_ground", c.initialize_from_ground);
+    odometry::GroundPlaneConfig &p = c.plane;
+    m.Read("base_height_m", p.base_height_m);
+    m.Read("height_window_m", p.height_window_m);
+    m.Read("max_tilt_deg", p.max_tilt_deg);
+    m.Read("min_distance_m", p.min_distance_m);
+    m.Read("max_distance_m", p.max_distance_m);
+    m.Read("inlier_threshold_m", p.inlier_threshold_m);
+    m.Read("ransac_iterations", p.ransac_iterations);
+    m.Read("min_points", p.min_points);
+    m.Read("min_depth_spread_m", p.min_depth_spread_m);
+    m.Read("elevation_sigma_deg", p.elevation_sigma_deg);
+    m.Read("seed", p.seed);
+    m.RejectUnknownKeys();
+}
+
 }  // namespace
 
 odometry::OdometryMethod ParseOdometryMethodKey(const std::string &text, const std::string &what) {
@@ -91,6 +112,7 @@ odometry::DopplerOdometryConfig LoadOdometryConfig(const std::string &yaml_path)
     odo.Read("max_angular_rate_radps", config.max_angular_rate_radps);
     odo.Read("angular_rate_prior", config.angular_rate_prior);
     odo.RejectUnknownKeys();
+    ReadGround(top.Child("ground"), config.ground);
     top.RejectUnknownKeys();
     try {
         config.Validate();  // messages name the field as "section.key: ..."

@@ -11,6 +11,7 @@
 #include "dorado/core/radar_scan.hpp"
 #include "dorado/core/trajectory.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
+#include "dorado/odometry/ground_attitude.hpp"
 #include "dorado/odometry/kinematic_model.hpp"
 
 namespace dorado::odometry {
@@ -55,6 +56,9 @@ struct DopplerOdometryConfig {
     /// prior) instead of eq. (5)'s twist as is. They agree to a few percent where eq. (5) is well
     /// conditioned; near an ICR axis (a side mount) the raw pitch or yaw rate is noise.
     bool angular_rate_prior = true;
+    /// Roll and pitch corrected per scan by the ground plane (ground_attitude.hpp); off by
+    /// default. The plane fit's elevation noise comes from ego_velocity.sensor when it has one.
+    GroundAttitudeConfig ground;
 
     /// Throws std::invalid_argument naming the first bad field.
     void Validate() const;
@@ -79,6 +83,9 @@ struct OdometryStep {
     std::string fallback_reason;                          ///< the cause in words, with numbers
     bool zero_velocity_update = false;  ///< a stationary scan: a zero twist was integrated
     Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();  ///< pose after this scan
+    /// The ground-plane attitude update (when config.ground.enabled and the scan was integrated);
+    /// ground.observation.fallback names why a scan gave no ground.
+    GroundAttitudeStep ground;
 };
 
 class DopplerOdometry {
@@ -109,10 +116,14 @@ class DopplerOdometry {
   private:
     // Chooses the twist to integrate for this scan (fills step.*_used and the fallback fields).
     void ChooseTwist(const Eigen::Vector3d &gyro_base_radps, OdometryStep &step);
+    // Fits the ground to the scan's static points and corrects roll and pitch with it.
+    void CorrectAttitude(const RadarScan &scan_radar, OdometryStep &step);
 
     DopplerOdometryConfig config_;
     EgoVelocityEstimator estimator_;
     KinematicModel model_;
+    Eigen::Isometry3d T_base_radar_;
+    GroundAttitudeFilter ground_filter_;
     Trajectory trajectory_;
     Eigen::Isometry3d T_world_base_ = Eigen::Isometry3d::Identity();
     bool has_last_stamp_ = false;

@@ -1,0 +1,75 @@
+#include "dorado/odometry/ground_attitude.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "dorado/core/lie.hpp"
+
+namespace dorado::odometry {
+
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+}  // namespace
+
+void GroundAttitudeConfig::Validate() const {
+    plane.Validate();
+    auto require = [](bool ok, const char *key, const char *what) {
+        if (!ok) throw std::invalid_argument(std::string("ground.") + key + ": " + what);
+    };
+    require(road_slope_sigma_deg > 0.0, "road_slope_sigma_deg", "must be > 0");
+    require(road_correlation_m >= 0.0, "road_correlation_m", "must be >= 0");
+    require(attitude_random_walk_deg_per_sqrt_s >= 0.0, "attitude_random_walk_deg_per_sqrt_s",
+            "must be >= 0");
+}
+
+GroundAttitudeFilter::GroundAttitudeFilter(GroundAttitudeConfig config)
+    : config_((config.Validate(), std::move(config))),
+      initialized_(!config_.initialize_from_ground) {}
+
+void GroundAttitudeFilter::Predict(const Eigen::Matrix3d &cov_omega_base, double dt_s) {
+    if (!(dt_s > 0.0)) return;
+    const double q = std::pow(config_.attitude_random_walk_deg_per_sqrt_s * kDeg, 2);
+    // Roll and pitch rates are the base's omega_x, omega_y to first order in roll and pitch.
+    P_ +=
+        cov_omega_base.topLeftCorner<2, 2>() * dt_s * dt_s + q * dt_s * Eigen::Matrix2d::Identity();
+}
+
+void GroundAttitudeFilter::Update(const GroundObservation &observation, double distance_m,
+                                  Eigen::Isometry3d &T_world_base, GroundAttitudeStep &step) {
+    step.observation = observation;
+    step.cov_roll_pitch = P_;
+    if (!observation.valid) return;
+    const double slope2 = std::pow(config_.road_slope_sigma_deg * kDeg, 2);
+    Eigen::Vector3d rpy = RollPitchYaw(T_world_base.linear());
+    if (!initialized_) {  // the world frame is level with the road here
+        step.correction_rad = observation.roll_pitch_rad - rpy.head<2>();
+        rpy.head<2>() = observation.roll_pitch_rad;
+        T_world_base.linear() = RotationFromRollPitchYaw(rpy);
+        P_ = observation.cov_roll_pitch + slope2 * Eigen::Matrix2d::Identity();
+        initialized_ = true;
+        step.updated = true;
+        step.cov_roll_pitch = P_;
+        return;
+    }
+    if (!(distance_m > 1e-3)) return;
+    // The road's slope is the measurement's error: correlated over road_correlation_m, so a scan
+    // that moved distance_m holds distance_m / road_correlation_m of an independent look at it.
+    const double looks = std::max(1.0, config_.road_correlation_m / distance_m);
+    const Eigen::Matrix2d R =
+        observation.cov_roll_pitch + slope2 * looks * Eigen::Matrix2d::Identity();
+    // z = [roll, pitch] of R_world_base (ZYX, yaw free); H = I on the Euler error.
+    const Eigen::Vector2d innovation = observation.roll_pitch_rad - rpy.head<2>();
+    const Eigen::Matrix2d K = P_ * (P_ + R).inverse();
+    step.correction_rad = K * innovation;
+    if (!step.correction_rad.allFinite()) return;
+    rpy.head<2>() += step.correction_rad;
+    T_world_base.linear() = RotationFromRollPitchYaw(rpy);
+    P_ = (Eigen::Matrix2d::Identity() - K) * P_;
+    P_ = 0.5 * (P_ + P_.transpose());
+    step.updated = true;
+    step.cov_roll_pitch = P_;
+}
+
+}  // namespace dorado::odometry
