@@ -27,8 +27,12 @@ std::string Columns(const Eigen::Isometry3d *T, const Matrix6d &C) {
     std::string out;
     char cell[40];
     const Eigen::Quaterniond q(T->linear());
-    const double pose[] = {T->translation().x(), T->translation().y(), T->translation().z(),
-                           q.x(),                q.y(),                q.z(),
+    const double pose[] = {T->translation().x(),
+                           T->translation().y(),
+                           T->translation().z(),
+                           q.x(),
+                           q.y(),
+                           q.z(),
                            q.w()};
     for (double v : pose) {
         std::snprintf(cell, sizeof(cell), ",%.9g", v);
@@ -48,10 +52,10 @@ CovarianceTable::CovarianceTable() : csv_(Header()) {}
 
 void CovarianceTable::Add(const frontend::FrontEndResult &result) {
     const mapping::RegistrationResult &r = result.registration;
-    const char *status = r.first_scan               ? "first_scan"
-                         : r.fallback               ? "fallback"
-                         : r.registration_valid     ? "fused"
-                                                    : "registration_only";
+    const char *status = r.first_scan           ? "first_scan"
+                         : r.fallback           ? "fallback"
+                         : r.registration_valid ? "fused"
+                                                : "registration_only";
     char t[32];
     std::snprintf(t, sizeof(t), "%.9f", NanosToSeconds(result.stamp_ns));
     csv_ += std::string(t) + "," + status;

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "dorado/frontend/radar_front_end.hpp"
 #include "covariance_table.hpp"
+#include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/mapping/voxel_cloud.hpp"
 
 namespace dorado::apps {

@@ -3,11 +3,11 @@
 
 #include <ceres/loss_function.h>
 
+#include <tsl/robin_map.h>
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <memory>
-#include <tsl/robin_map.h>
 
 #include "cost_functions.hpp"
 
@@ -93,9 +93,8 @@ RegistrationCovarianceResult RegistrationCovariance(const Eigen::Isometry3d &T_w
         H.noalias() += w * J.transpose() * J;
         weighted_ss += w * r.squaredNorm();
         if (config.registration_covariance == RegistrationCovarianceModel::kClustered) {
-            auto [it, inserted] =
-                gradients.try_emplace(ClusterKey(m.q_world, config.registration_cluster_m),
-                                      Vector6d::Zero());
+            auto [it, inserted] = gradients.try_emplace(
+                ClusterKey(m.q_world, config.registration_cluster_m), Vector6d::Zero());
             it.value() += w * J.transpose() * r;
         }
     }

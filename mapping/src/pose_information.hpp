@@ -29,14 +29,15 @@ namespace dorado::mapping {
 struct RegistrationCovarianceResult {
     Matrix6d covariance = Matrix6d::Identity();  ///< of the registration-alone pose, xi convention
     Matrix6d information_model = Matrix6d::Zero();  ///< sum of J^T W J (independent residuals)
-    double residual_scale = 1.0;  ///< sqrt(sum w r^2 / (3 n - 6)), whitened units
-    int clusters = 0;             ///< independent groups of residuals (clustered model)
-    bool valid = false;           ///< false: too few residuals or a singular information
+    double residual_scale = 1.0;                    ///< sqrt(sum w r^2 / (3 n - 6)), whitened units
+    int clusters = 0;    ///< independent groups of residuals (clustered model)
+    bool valid = false;  ///< false: too few residuals or a singular information
 };
 
 /// The covariance of the registration-alone pose T_world_base (its minimum) from its matches,
 /// robustified by loss (nullptr = none), by the configured model, plus the registration's own
-/// floor (registration_floor_sigma_*: what no single scan's residuals can show, e.g. the map's error).
+/// floor (registration_floor_sigma_*: what no single scan's residuals can show, e.g. the map's
+/// error).
 [[nodiscard]] RegistrationCovarianceResult RegistrationCovariance(
     const Eigen::Isometry3d &T_world_base, const std::vector<Correspondence> &matches,
     const ceres::LossFunction *loss, const MapperConfig &config);

@@ -102,8 +102,8 @@ void MapperConfig::Validate() const {
     Require(max_doppler_residuals >= 0, "max_doppler_residuals", "must be >= 0");
     Require(refine_max_iterations >= 1, "refine_max_iterations", "must be >= 1");
     Require(refine_outer_iterations >= 1, "refine_outer_iterations", "must be >= 1");
-    Require(registration_floor_sigma_translation_m >= 0.0,
-            "registration_floor_sigma_translation_m", "must be >= 0");
+    Require(registration_floor_sigma_translation_m >= 0.0, "registration_floor_sigma_translation_m",
+            "must be >= 0");
     Require(registration_floor_sigma_rotation_rad >= 0.0, "registration_floor_sigma_rotation_rad",
             "must be >= 0");
     Require(registration_cluster_m > 0.0 && std::isfinite(registration_cluster_m),
@@ -223,8 +223,8 @@ std::string CheckRegistration(const PclAlignment &aligned, const Association &as
 // residuals join only when the prior was not built from the same Doppler velocity (counted once).
 void RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
                                 const std::vector<DopplerObservation> &doppler_all,
-                                const MotionPrior &prior_map, const MotionPrior &prior,
-                                double dt_s, Association association, RegistrationResult &result,
+                                const MotionPrior &prior_map, const MotionPrior &prior, double dt_s,
+                                Association association, RegistrationResult &result,
                                 Eigen::Isometry3d &T_map) const {
     const std::vector<DopplerObservation> doppler =
         (config.use_doppler && has_pose && !CarriesDoppler(prior))
@@ -236,11 +236,12 @@ void RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
             association = Associate(source_base, T_map, map, config, result.threshold_m,
                                     config.max_registration_residuals);
         if (association.count < config.min_correspondences) break;
-        const RefinementInput input{T_map,           &prior_map,       &association.matches,
-                                    &doppler,        T_map_base_last,  extrinsics.T_base_radar,
-                                    dt_s,            &prior,           T_world_base_last};
+        const RefinementInput input{T_map,    &prior_map,      &association.matches,
+                                    &doppler, T_map_base_last, extrinsics.T_base_radar,
+                                    dt_s,     &prior,          T_world_base_last};
         const bool ceres = config.refinement == Refinement::kCeres;
-        const RefinementOutput refined = ceres ? RefinePose(input, config) : RegisterAlone(input, config);
+        const RefinementOutput refined =
+            ceres ? RefinePose(input, config) : RegisterAlone(input, config);
         KeepRegistration(refined, result);
         if (!refined.usable) break;
         if (ceres) {
@@ -474,9 +475,9 @@ const char *ToString(RegistrationCovarianceModel model) {
 }
 
 RegistrationCovarianceModel ParseRegistrationCovarianceModel(const std::string &name) {
-    for (auto m : {RegistrationCovarianceModel::kIndependent,
-                   RegistrationCovarianceModel::kResidualScale,
-                   RegistrationCovarianceModel::kClustered})
+    for (auto m :
+         {RegistrationCovarianceModel::kIndependent, RegistrationCovarianceModel::kResidualScale,
+          RegistrationCovarianceModel::kClustered})
         if (name == ToString(m)) return m;
     throw std::invalid_argument("unknown registration covariance '" + name +
                                 "' (independent, residual_scale, clustered)");

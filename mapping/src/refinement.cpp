@@ -150,9 +150,10 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
     problem.AddResidualBlock(
         PriorError::Create(prior.T_world_base, InverseCholeskyFactor<6>(prior.covariance)), nullptr,
         pose.t.data(), pose.q.coeffs().data());
-    problem.AddResidualBlock(PriorError::Create(out.T_world_base_registration,
-                                                InverseCholeskyFactor<6>(out.registration_covariance)),
-                             nullptr, pose.t.data(), pose.q.coeffs().data());
+    problem.AddResidualBlock(
+        PriorError::Create(out.T_world_base_registration,
+                           InverseCholeskyFactor<6>(out.registration_covariance)),
+        nullptr, pose.t.data(), pose.q.coeffs().data());
     AddDoppler(problem, input, input.T_world_base_prev_output, config, loss.get(), pose);
     if (!Solve(problem, pose, config, out.iterations)) return out;
     out.usable = true;
@@ -161,9 +162,9 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
     Matrix6d information = CovarianceFromInformation(prior.covariance) +
                            CovarianceFromInformation(out.registration_covariance);
     if (input.doppler != nullptr)
-        information += DopplerInformation(out.T_world_base, *input.doppler,
-                                          input.T_world_base_prev_output, input.T_base_radar,
-                                          input.dt_s, loss.get(), config);
+        information +=
+            DopplerInformation(out.T_world_base, *input.doppler, input.T_world_base_prev_output,
+                               input.T_base_radar, input.dt_s, loss.get(), config);
     out.covariance = CovarianceFromInformation(information);
     return out;
 }

@@ -69,13 +69,13 @@ void DoradoNode::Publish(const std_msgs::Header &header, const RadarScan &scan,
     map_odom.header = map_header;
     map_odom.child_frame_id = settings_.tf_to_frame;
     FillOdometry(T_map_base * T_base_child,
-                 MapPoseCovariance(T_map_base, T_base_child, result.registration.covariance),
-                 twist, map_odom);
+                 MapPoseCovariance(T_map_base, T_base_child, result.registration.covariance), twist,
+                 map_odom);
     map_odom_pub_.publish(map_odom);
     if (settings_.publish_tf)
-        tf_broadcaster_.sendTransform(TransformOf(
-            map_header, settings_.tf_from_frame,
-            T_map_base * result.T_world_base_odometry.inverse()));
+        tf_broadcaster_.sendTransform(
+            TransformOf(map_header, settings_.tf_from_frame,
+                        T_map_base * result.T_world_base_odometry.inverse()));
     if (result.static_mask.size() == scan.size()) {
         if (static_pub_.getNumSubscribers() > 0)
             static_pub_.publish(MakeCloud(header, scan, result.static_mask, true));

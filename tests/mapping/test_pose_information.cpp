@@ -52,8 +52,7 @@ TEST(PoseInformation, IndependentModelMatchesMonteCarlo) {
     config.registration_floor_sigma_translation_m = 0.0;
     config.registration_floor_sigma_rotation_rad = 0.0;
     std::vector<Correspondence> matches;
-    for (const auto &p : points)
-        matches.push_back({p, p, Eigen::Matrix3d::Identity() / sigma});
+    for (const auto &p : points) matches.push_back({p, p, Eigen::Matrix3d::Identity() / sigma});
     const RegistrationCovarianceResult model =
         RegistrationCovariance(Eigen::Isometry3d::Identity(), matches, nullptr, config);
     ASSERT_TRUE(model.valid);
@@ -89,7 +88,7 @@ TEST(PoseInformation, ClusteredModelCountsSharedErrorsOnce) {
     std::vector<Correspondence> matches;
     for (const auto &p : points) {
         const Eigen::Vector3d shared(n(rng), n(rng), n(rng));  // the cluster's error
-        for (int copy = 0; copy < 10; ++copy)                    // 10 residuals see it
+        for (int copy = 0; copy < 10; ++copy)                  // 10 residuals see it
             matches.push_back({p, p + shared, Eigen::Matrix3d::Identity() / 0.3});
     }
     MapperConfig config;

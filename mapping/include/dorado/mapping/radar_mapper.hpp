@@ -72,7 +72,7 @@ struct MapperConfig {
     /// How the registration's information is counted against the prior (see the enum).
     RegistrationCovarianceModel registration_covariance = RegistrationCovarianceModel::kClustered;
     double registration_cluster_m = 4.0;  ///< cell of the clustered model's groups
-    WindowConfig window;              ///< refinement = kWindow
+    WindowConfig window;                  ///< refinement = kWindow
 
     // When registration is not trusted and the pose falls back to the prior.
     int min_correspondences = 40;
