@@ -77,6 +77,31 @@ void AddDoppler(ceres::Problem &problem, const RefinementInput &input,
             const_cast<ceres::LossFunction *>(loss), pose.t.data(), pose.q.coeffs().data());
 }
 
+// The registration's residuals: each match on its map point's local distribution.
+void AddRegistration(ceres::Problem &problem, const RefinementInput &input,
+                     const ceres::LossFunction *loss, PoseBlocks &pose) {
+    for (const auto &m : *input.matches)
+        problem.AddResidualBlock(RegistrationError::Create(m.p_base, m.q_world, m.sqrt_information),
+                                 const_cast<ceres::LossFunction *>(loss), pose.t.data(),
+                                 pose.q.coeffs().data());
+}
+
+// The registered pose and its covariance (registration_covariance) into out; false when the
+// covariance cannot be estimated.
+bool KeepRegistration(const PoseBlocks &pose, const RefinementInput &input,
+                      const ceres::LossFunction *loss, const MapperConfig &config,
+                      RefinementOutput &out) {
+    const RegistrationCovarianceResult covariance =
+        RegistrationCovariance(pose.Pose(), *input.matches, loss, config);
+    out.registration_residual_scale = covariance.residual_scale;
+    out.registration_clusters = covariance.clusters;
+    if (!covariance.valid) return false;
+    out.registration_valid = true;
+    out.T_world_base_registration = pose.Pose();
+    out.registration_covariance = covariance.covariance;
+    return true;
+}
+
 }  // namespace
 
 RefinementOutput RegisterAlone(const RefinementInput &input, const MapperConfig &config) {
@@ -87,18 +112,9 @@ RefinementOutput RegisterAlone(const RefinementInput &input, const MapperConfig 
     // pose_graph_3d, which pins its first pose).
     PoseBlocks pose(input.T_world_base_initial);
     ceres::Problem problem(ProblemOptions());
-    for (const auto &m : *input.matches)
-        problem.AddResidualBlock(RegistrationError::Create(m.p_base, m.q_world, m.sqrt_information),
-                                 loss.get(), pose.t.data(), pose.q.coeffs().data());
+    AddRegistration(problem, input, loss.get(), pose);
     if (!Solve(problem, pose, config, out.iterations)) return out;
-    const RegistrationCovarianceResult covariance =
-        RegistrationCovariance(pose.Pose(), *input.matches, loss.get(), config);
-    out.registration_residual_scale = covariance.residual_scale;
-    out.registration_clusters = covariance.clusters;
-    if (!covariance.valid) return out;
-    out.registration_valid = true;
-    out.T_world_base_registration = pose.Pose();
-    out.registration_covariance = covariance.covariance;
+    if (!KeepRegistration(pose, input, loss.get(), config, out)) return out;
     out.T_world_base = out.T_world_base_registration;
     out.covariance = covariance.covariance;
     out.usable = true;
@@ -112,10 +128,7 @@ namespace {
 bool RegisterJointly(const RefinementInput &input, const MapperConfig &config,
                      const ceres::LossFunction *loss, PoseBlocks &pose, int &iterations) {
     ceres::Problem problem(ProblemOptions());
-    for (const auto &m : *input.matches)
-        problem.AddResidualBlock(RegistrationError::Create(m.p_base, m.q_world, m.sqrt_information),
-                                 const_cast<ceres::LossFunction *>(loss), pose.t.data(),
-                                 pose.q.coeffs().data());
+    AddRegistration(problem, input, loss, pose);
     AddDoppler(problem, input, input.T_world_base_prev, config, loss, pose);
     problem.AddResidualBlock(PriorError::Create(input.prior->T_world_base,
                                                 InverseCholeskyFactor<6>(input.prior->covariance)),
@@ -131,15 +144,9 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
     const auto loss = MakeLoss(config.kernel, config.kernel_scale);
     // 1. The registered pose and its covariance.
     PoseBlocks registered(input.T_world_base_initial);
-    if (!RegisterJointly(input, config, loss.get(), registered, out.iterations)) return out;
-    const RegistrationCovarianceResult covariance =
-        RegistrationCovariance(registered.Pose(), *input.matches, loss.get(), config);
-    out.registration_residual_scale = covariance.residual_scale;
-    out.registration_clusters = covariance.clusters;
-    if (!covariance.valid) return out;
-    out.registration_valid = true;
-    out.T_world_base_registration = registered.Pose();
-    out.registration_covariance = covariance.covariance;
+    if (!RegisterJointly(input, config, loss.get(), registered, out.iterations) ||
+        !KeepRegistration(registered, input, loss.get(), config, out))
+        return out;
 
     // 2. The output: its prior (a Gaussian: no robust loss) fused with the registered pose as one
     //    6-DoF measurement, so that the registration's hundreds of residuals count only as much as
