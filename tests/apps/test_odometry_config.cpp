@@ -30,7 +30,7 @@ TEST(OdometryConfig, TheShippedFileReadsEveryGroundKey) {
     EXPECT_FALSE(config.ground.enabled);
     EXPECT_DOUBLE_EQ(config.ground.road_slope_sigma_deg, 4.0);
     EXPECT_DOUBLE_EQ(config.ground.plane.max_distance_m, 15.0);
-    EXPECT_TRUE(config.ego_velocity.compensate_direction_noise);
+    EXPECT_FALSE(config.ego_velocity.compensate_direction_noise);  // opt-in: docs/attitude.md
 }
 
 TEST(OdometryConfig, GroundErrorsNameTheFileAndTheKey) {

@@ -126,7 +126,7 @@ struct EgoVelocityConfig {
     /// of the simulated Husky scans (-3 to -4 mm/s at 1-1.7 m/s, 0.4-0.5 deg/s of pitch rate
     /// through eq. 5), which this removes; pooled over 11 sequences the odometry's roll/pitch
     /// error drops from 3.9/4.3 to 2.9/3.0 deg (docs/attitude.md).
-    bool compensate_direction_noise = true;
+    bool compensate_direction_noise = false;
 
     // --- validity ---
     int min_points = 10;  ///< points left after the pre-filters
