@@ -116,7 +116,7 @@ RefinementOutput RegisterAlone(const RefinementInput &input, const MapperConfig 
     if (!Solve(problem, pose, config, out.iterations)) return out;
     if (!KeepRegistration(pose, input, loss.get(), config, out)) return out;
     out.T_world_base = out.T_world_base_registration;
-    out.covariance = covariance.covariance;
+    out.covariance = out.registration_covariance;
     out.usable = true;
     return out;
 }
