@@ -140,9 +140,12 @@ TEST(RadarMapper, ShortDriveStaysWithinStatedRpe) {
                 r.mean_rpe_translation_m, r.mean_rpe_rotation_rad * 180.0 / M_PI,
                 r.prior_only_rpe_translation_m, r.fallbacks);
     // Stated accuracy on this sequence (7.5 m/s, 0.75 m per frame): 1 cm and 0.15 deg per frame
-    // (measured 3.7 mm, 0.10 deg), and better than the Doppler prior it starts from.
+    // (measured 5.3 mm, 0.12 deg), and no worse than the Doppler prior it starts from: fused by
+    // their information, the registration (cm-noisy per frame) moves the translation little
+    // (measured 5.333 vs 5.328 mm; it was 3.7 mm when its residuals were over-counted, at a cost
+    // in rotation on the simulated drives, docs/covariance.md).
     EXPECT_LT(r.mean_rpe_translation_m, 0.01);
-    EXPECT_LT(r.mean_rpe_translation_m, r.prior_only_rpe_translation_m);
+    EXPECT_LT(r.mean_rpe_translation_m, 1.02 * r.prior_only_rpe_translation_m);
     EXPECT_LT(r.mean_rpe_rotation_rad, 0.15 * M_PI / 180.0);
     EXPECT_EQ(r.fallbacks, 0);
 }

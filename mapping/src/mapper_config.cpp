@@ -1,0 +1,138 @@
+// The mapper's settings: their validation and the one spelling of each choice (radar_mapper.hpp).
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "dorado/mapping/radar_mapper.hpp"
+
+namespace dorado::mapping {
+
+namespace {
+
+void Require(bool ok, const char *key, const char *what) {
+    if (!ok) throw std::invalid_argument(std::string("mapper config: ") + key + " " + what);
+}
+
+}  // namespace
+
+void MapperConfig::Validate() const {
+    Require(min_range_m >= 0.0 && std::isfinite(min_range_m), "min_range_m", "must be >= 0");
+    Require(max_range_m > min_range_m, "max_range_m", "must be > min_range_m");
+    Require(scan_voxel_m > 0.0 && std::isfinite(scan_voxel_m), "scan_voxel_m", "must be > 0");
+    map.Validate();
+    Require(keyframe_distance_m >= 0.0, "keyframe_distance_m", "must be >= 0");
+    Require(keyframe_angle_deg >= 0.0, "keyframe_angle_deg", "must be >= 0");
+    Require(max_source_points >= 10, "max_source_points", "must be >= 10");
+    Require(max_iterations >= 1, "max_iterations", "must be >= 1");
+    Require(initial_threshold_m > 0.0, "initial_threshold_m", "must be > 0");
+    Require(min_threshold_m > 0.0, "min_threshold_m", "must be > 0");
+    Require(min_motion_m >= 0.0, "min_motion_m", "must be >= 0");
+    Require(covariance_neighbours >= 3, "covariance_neighbours", "must be >= 3");
+    Require(kernel_scale > 0.0, "kernel_scale", "must be > 0");
+    Require(point_sigma_m > 0.0, "point_sigma_m", "must be > 0");
+    Require(plane_flatness > 0.0 && plane_flatness <= 1.0, "plane_flatness", "must be in (0, 1]");
+    Require(doppler_sigma_mps > 0.0, "doppler_sigma_mps", "must be > 0");
+    Require(max_registration_residuals >= 1, "max_registration_residuals", "must be >= 1");
+    Require(max_doppler_residuals >= 0, "max_doppler_residuals", "must be >= 0");
+    Require(refine_max_iterations >= 1, "refine_max_iterations", "must be >= 1");
+    Require(refine_outer_iterations >= 1, "refine_outer_iterations", "must be >= 1");
+    Require(registration_floor_sigma_translation_m >= 0.0, "registration_floor_sigma_translation_m",
+            "must be >= 0");
+    Require(registration_floor_sigma_rotation_rad >= 0.0, "registration_floor_sigma_rotation_rad",
+            "must be >= 0");
+    Require(registration_cluster_m > 0.0 && std::isfinite(registration_cluster_m),
+            "registration_cluster_m", "must be > 0");
+    if (refinement == Refinement::kWindow) window.Validate();
+    Require(min_correspondences >= 6, "min_correspondences", "must be >= 6");
+    Require(max_rms_m > 0.0, "max_rms_m", "must be > 0");
+    Require(max_prior_mahalanobis_squared > 0.0, "max_prior_mahalanobis_squared", "must be > 0");
+    Require(registration_sigma_translation_m > 0.0, "registration_sigma_translation_m",
+            "must be > 0");
+    Require(registration_sigma_rotation_rad > 0.0, "registration_sigma_rotation_rad",
+            "must be > 0");
+    Require(min_observability >= 0.0 && min_observability < 1.0, "min_observability",
+            "must be in [0, 1)");
+}
+
+const char *ToString(RegistrationMethod method) {
+    switch (method) {
+        case RegistrationMethod::kPointToPoint:
+            return "point_to_point";
+        case RegistrationMethod::kPointToPlane:
+            return "point_to_plane";
+        case RegistrationMethod::kGicp:
+            return "gicp";
+    }
+    return "?";
+}
+
+const char *ToString(RobustKernel kernel) {
+    switch (kernel) {
+        case RobustKernel::kNone:
+            return "none";
+        case RobustKernel::kHuber:
+            return "huber";
+        case RobustKernel::kCauchy:
+            return "cauchy";
+        case RobustKernel::kTukey:
+            return "tukey";
+    }
+    return "?";
+}
+
+const char *ToString(Refinement refinement) {
+    switch (refinement) {
+        case Refinement::kNone:
+            return "none";
+        case Refinement::kCeres:
+            return "ceres";
+        case Refinement::kWindow:
+            return "window";
+    }
+    return "?";
+}
+
+Refinement ParseRefinement(const std::string &name) {
+    for (auto r : {Refinement::kNone, Refinement::kCeres, Refinement::kWindow})
+        if (name == ToString(r)) return r;
+    throw std::invalid_argument("unknown refinement '" + name + "' (none, ceres, window)");
+}
+
+RegistrationMethod ParseRegistrationMethod(const std::string &name) {
+    for (auto m : {RegistrationMethod::kPointToPoint, RegistrationMethod::kPointToPlane,
+                   RegistrationMethod::kGicp})
+        if (name == ToString(m)) return m;
+    throw std::invalid_argument("unknown registration method '" + name +
+                                "' (point_to_point, point_to_plane, gicp)");
+}
+
+RobustKernel ParseRobustKernel(const std::string &name) {
+    for (auto k :
+         {RobustKernel::kNone, RobustKernel::kHuber, RobustKernel::kCauchy, RobustKernel::kTukey})
+        if (name == ToString(k)) return k;
+    throw std::invalid_argument("unknown robust kernel '" + name +
+                                "' (none, huber, cauchy, tukey)");
+}
+
+const char *ToString(RegistrationCovarianceModel model) {
+    switch (model) {
+        case RegistrationCovarianceModel::kIndependent:
+            return "independent";
+        case RegistrationCovarianceModel::kResidualScale:
+            return "residual_scale";
+        case RegistrationCovarianceModel::kClustered:
+            return "clustered";
+    }
+    return "?";
+}
+
+RegistrationCovarianceModel ParseRegistrationCovarianceModel(const std::string &name) {
+    for (auto m :
+         {RegistrationCovarianceModel::kIndependent, RegistrationCovarianceModel::kResidualScale,
+          RegistrationCovarianceModel::kClustered})
+        if (name == ToString(m)) return m;
+    throw std::invalid_argument("unknown registration covariance '" + name +
+                                "' (independent, residual_scale, clustered)");
+}
+
+}  // namespace dorado::mapping
