@@ -52,16 +52,16 @@ CovarianceTable::CovarianceTable() : csv_(Header()) {}
 
 void CovarianceTable::Add(const frontend::FrontEndResult &result) {
     const mapping::RegistrationResult &r = result.registration;
-    const char *status = r.first_scan           ? "first_scan"
-                         : r.fallback           ? "fallback"
-                         : r.registration_valid ? "fused"
-                                                : "registration_only";
+    const char *status = r.first_scan         ? "first_scan"
+                         : r.fallback         ? "fallback"
+                         : r.registered.valid ? "fused"
+                                              : "registration_only";
     char t[32];
     std::snprintf(t, sizeof(t), "%.9f", NanosToSeconds(result.stamp_ns));
     csv_ += std::string(t) + "," + status;
     csv_ += Columns(&result.T_world_base, r.covariance);
-    csv_ += Columns(r.registration_valid ? &r.T_world_base_registration : nullptr,
-                    r.registration_covariance);
+    csv_ +=
+        Columns(r.registered.valid ? &r.registered.T_world_base : nullptr, r.registered.covariance);
     csv_ += Columns(r.first_scan ? nullptr : &result.prior.T_world_base, result.prior.covariance);
     csv_ += "\n";
 }

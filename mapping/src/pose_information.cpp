@@ -69,11 +69,11 @@ Matrix6d CovarianceFromInformation(const Matrix6d &information) {
     return 0.5 * (covariance + covariance.transpose());
 }
 
-RegistrationCovarianceResult RegistrationCovariance(const Eigen::Isometry3d &T_world_base,
-                                                    const std::vector<Correspondence> &matches,
-                                                    const ceres::LossFunction *loss,
-                                                    const MapperConfig &config) {
-    RegistrationCovarianceResult out;
+RegisteredPose RegistrationCovariance(const Eigen::Isometry3d &T_world_base,
+                                      const std::vector<Correspondence> &matches,
+                                      const ceres::LossFunction *loss, const MapperConfig &config) {
+    RegisteredPose out;
+    out.T_world_base = T_world_base;
     const int n = static_cast<int>(matches.size());
     if (n < 3) return out;
     const Eigen::Vector3d t = T_world_base.translation();
@@ -98,7 +98,6 @@ RegistrationCovarianceResult RegistrationCovariance(const Eigen::Isometry3d &T_w
             it.value() += w * J.transpose() * r;
         }
     }
-    out.information_model = H;
     out.residual_scale = std::sqrt(weighted_ss / std::max(1, 3 * n - 6));
     const Eigen::LDLT<Matrix6d> ldlt(H);
     if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 1e-12).all()) return out;

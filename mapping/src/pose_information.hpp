@@ -26,21 +26,14 @@ namespace dorado::mapping {
 /// q (x, y, z, w): t' = t + R rho, q' = q (x) [phi / 2; 1]. A 7 x 6 matrix.
 [[nodiscard]] Eigen::Matrix<double, 7, 6> RightPerturbationLift(const Eigen::Quaterniond &q);
 
-struct RegistrationCovarianceResult {
-    Matrix6d covariance = Matrix6d::Identity();  ///< of the registration-alone pose, xi convention
-    Matrix6d information_model = Matrix6d::Zero();  ///< sum of J^T W J (independent residuals)
-    double residual_scale = 1.0;                    ///< sqrt(sum w r^2 / (3 n - 6)), whitened units
-    int clusters = 0;    ///< independent groups of residuals (clustered model)
-    bool valid = false;  ///< false: too few residuals or a singular information
-};
-
-/// The covariance of the registration-alone pose T_world_base (its minimum) from its matches,
-/// robustified by loss (nullptr = none), by the configured model, plus the registration's own
-/// floor (registration_floor_sigma_*: what no single scan's residuals can show, e.g. the map's
-/// error).
-[[nodiscard]] RegistrationCovarianceResult RegistrationCovariance(
-    const Eigen::Isometry3d &T_world_base, const std::vector<Correspondence> &matches,
-    const ceres::LossFunction *loss, const MapperConfig &config);
+/// The registered pose T_world_base (a minimum of its residuals) with its covariance from its
+/// matches, robustified by loss (nullptr = none), by the configured model, plus the registration's
+/// own floor (registration_floor_sigma_*: what no single scan's residuals can show, e.g. the map's
+/// error). Not valid with fewer than 3 matches or a singular information.
+[[nodiscard]] RegisteredPose RegistrationCovariance(const Eigen::Isometry3d &T_world_base,
+                                                    const std::vector<Correspondence> &matches,
+                                                    const ceres::LossFunction *loss,
+                                                    const MapperConfig &config);
 
 /// Information of the Doppler residuals about the pose (sum of J^T w J in the xi convention).
 [[nodiscard]] Matrix6d DopplerInformation(const Eigen::Isometry3d &T_world_base,

@@ -62,15 +62,6 @@ Eigen::Matrix3Xd ThinColumns(const Eigen::Matrix3Xd &points, int max_count) {
     return out;
 }
 
-// The registration-alone estimate, kept in the result for comparison with the fused one.
-void KeepRegistration(const RefinementOutput &refined, RegistrationResult &result) {
-    result.registration_valid = refined.registration_valid;
-    result.T_world_base_registration = refined.T_world_base_registration;
-    result.registration_covariance = refined.registration_covariance;
-    result.registration_residual_scale = refined.registration_residual_scale;
-    result.registration_clusters = refined.registration_clusters;
-}
-
 WindowNoise WindowNoiseOf(const MapperConfig &config) {
     return {config.doppler_sigma_mps, static_cast<WindowLoss>(config.kernel), config.kernel_scale};
 }
@@ -199,14 +190,14 @@ void RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
         const bool ceres = config.refinement == Refinement::kCeres;
         const RefinementOutput refined =
             ceres ? RefinePose(input, config) : RegisterAlone(input, config);
-        KeepRegistration(refined, result);
+        result.registered = refined.registered;
         if (!refined.usable) break;
         if (ceres) {
-            T_map = refined.T_world_base_registration;
+            T_map = refined.registered.T_world_base;
             result.T_world_base = refined.T_world_base;
             result.covariance = refined.covariance;
         } else {  // none: PCL's pose; the window smoother's covariance is set after it
-            result.covariance = refined.registration_covariance;
+            result.covariance = refined.registered.covariance;
         }
     }
     result.correspondences = association.count;
@@ -324,7 +315,6 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
         result.T_world_base = prior.T_world_base;
         T_map = prior_map.T_world_base;
         result.covariance = prior.covariance;
-        result.registration_valid = false;
         ++s.fallbacks;
     }
     if (s.window) {  // every scan enters the window; a fallback one without registration residuals
@@ -333,10 +323,10 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
         result.times.refinement_ms += MillisecondsSince(t_window);
         // The window's marginal is not computed: the prior and the registration fused by their
         // information stand in for it (the window's older scans only tighten it).
-        if (result.registration_valid)
-            result.covariance = CovarianceFromInformation(
-                CovarianceFromInformation(prior.covariance) +
-                CovarianceFromInformation(result.registration_covariance));
+        if (result.registered.valid)
+            result.covariance =
+                CovarianceFromInformation(CovarianceFromInformation(prior.covariance) +
+                                          CovarianceFromInformation(result.registered.covariance));
     }
     if (config.refinement != Refinement::kCeres) T_map = result.T_world_base;  // one chain
 

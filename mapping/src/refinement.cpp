@@ -86,22 +86,6 @@ void AddRegistration(ceres::Problem &problem, const RefinementInput &input,
                                  pose.q.coeffs().data());
 }
 
-// The registered pose and its covariance (registration_covariance) into out; false when the
-// covariance cannot be estimated.
-bool KeepRegistration(const PoseBlocks &pose, const RefinementInput &input,
-                      const ceres::LossFunction *loss, const MapperConfig &config,
-                      RefinementOutput &out) {
-    const RegistrationCovarianceResult covariance =
-        RegistrationCovariance(pose.Pose(), *input.matches, loss, config);
-    out.registration_residual_scale = covariance.residual_scale;
-    out.registration_clusters = covariance.clusters;
-    if (!covariance.valid) return false;
-    out.registration_valid = true;
-    out.T_world_base_registration = pose.Pose();
-    out.registration_covariance = covariance.covariance;
-    return true;
-}
-
 }  // namespace
 
 RefinementOutput RegisterAlone(const RefinementInput &input, const MapperConfig &config) {
@@ -114,10 +98,8 @@ RefinementOutput RegisterAlone(const RefinementInput &input, const MapperConfig 
     ceres::Problem problem(ProblemOptions());
     AddRegistration(problem, input, loss.get(), pose);
     if (!Solve(problem, pose, config, out.iterations)) return out;
-    if (!KeepRegistration(pose, input, loss.get(), config, out)) return out;
-    out.T_world_base = out.T_world_base_registration;
-    out.covariance = out.registration_covariance;
-    out.usable = true;
+    out.registered = RegistrationCovariance(pose.Pose(), *input.matches, loss.get(), config);
+    out.usable = out.registered.valid;
     return out;
 }
 
@@ -144,9 +126,9 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
     const auto loss = MakeLoss(config.kernel, config.kernel_scale);
     // 1. The registered pose and its covariance.
     PoseBlocks registered(input.T_world_base_initial);
-    if (!RegisterJointly(input, config, loss.get(), registered, out.iterations) ||
-        !KeepRegistration(registered, input, loss.get(), config, out))
-        return out;
+    if (!RegisterJointly(input, config, loss.get(), registered, out.iterations)) return out;
+    out.registered = RegistrationCovariance(registered.Pose(), *input.matches, loss.get(), config);
+    if (!out.registered.valid) return out;
 
     // 2. The output: its prior (a Gaussian: no robust loss) fused with the registered pose as one
     //    6-DoF measurement, so that the registration's hundreds of residuals count only as much as
@@ -158,8 +140,8 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
         PriorError::Create(prior.T_world_base, InverseCholeskyFactor<6>(prior.covariance)), nullptr,
         pose.t.data(), pose.q.coeffs().data());
     problem.AddResidualBlock(
-        PriorError::Create(out.T_world_base_registration,
-                           InverseCholeskyFactor<6>(out.registration_covariance)),
+        PriorError::Create(out.registered.T_world_base,
+                           InverseCholeskyFactor<6>(out.registered.covariance)),
         nullptr, pose.t.data(), pose.q.coeffs().data());
     AddDoppler(problem, input, input.T_world_base_prev_output, config, loss.get(), pose);
     if (!Solve(problem, pose, config, out.iterations)) return out;
@@ -167,7 +149,7 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
     out.T_world_base = pose.Pose();
     // The output's covariance: the inputs' informations summed (first order at the solution).
     Matrix6d information = CovarianceFromInformation(prior.covariance) +
-                           CovarianceFromInformation(out.registration_covariance);
+                           CovarianceFromInformation(out.registered.covariance);
     if (input.doppler != nullptr)
         information +=
             DopplerInformation(out.T_world_base, *input.doppler, input.T_world_base_prev_output,

@@ -76,25 +76,21 @@ struct RefinementOutput {
     bool usable = false;
     int iterations = 0;
     Matrix6d covariance = Matrix6d::Zero();  ///< of T_world_base (xi convention, pose_information)
-    /// The registration alone: its Ceres minimum from T_world_base_initial and its covariance.
-    bool registration_valid = false;
-    Eigen::Isometry3d T_world_base_registration = Eigen::Isometry3d::Identity();
-    Matrix6d registration_covariance = Matrix6d::Zero();
-    double registration_residual_scale = 0.0;
-    int registration_clusters = 0;
+    RegisteredPose registered;               ///< the registered pose and its covariance
 };
 
-/// The registration alone and its covariance (registration_covariance), for refinement none and
-/// window, which do not fuse it here. refinement.cpp.
+/// The registration alone and its covariance (registration_covariance) in `registered`, for
+/// refinement none and window, which do not fuse it here. refinement.cpp.
 [[nodiscard]] RefinementOutput RegisterAlone(const RefinementInput &input,
                                              const MapperConfig &config);
 
 /// The refinement of the new pose in two steps. 1. The registered pose that the map is built from:
-/// registration + Doppler + prior residuals jointly (the registration's residuals at their per-point
-/// weight, which locks the pose to the map), and its covariance by registration_covariance.
+/// registration + Doppler + prior residuals jointly (the registration's residuals at their
+/// per-point weight, which locks the pose to the map), and its covariance by
+/// registration_covariance.
 /// 2. The output pose: the output chain's prior fused with that registered pose as one 6-DoF
 /// measurement (and the Doppler residuals when the prior does not carry them), each by its
-/// information. T_world_base is the output, T_world_base_registration the registered pose.
+/// information. T_world_base is the output, `registered` the registered pose.
 /// refinement.cpp.
 [[nodiscard]] RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &config);
 

@@ -100,7 +100,7 @@ TEST_F(CmdOdometry, DopplerOdometryFollowsTheCircleAndReportsTheBadScan) {
     EXPECT_EQ(summary["scans"], 60);
     EXPECT_EQ(summary["scans_with_fallback_twist"], 1);
     EXPECT_EQ(summary["fallback_causes"]["invalid_velocity"], 1);  // the bad scan, by cause
-    EXPECT_TRUE(summary["stopped_early"].is_null());                          // ran to the end
+    EXPECT_TRUE(summary["stopped_early"].is_null());               // ran to the end
     EXPECT_NEAR(summary["inlier_ratio"]["median"].get<double>(), 0.8, 0.01);  // 20 % moving
 
     std::ifstream csv(out / "velocities.csv");

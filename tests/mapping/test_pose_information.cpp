@@ -53,7 +53,7 @@ TEST(PoseInformation, IndependentModelMatchesMonteCarlo) {
     config.registration_floor_sigma_rotation_rad = 0.0;
     std::vector<Correspondence> matches;
     for (const auto &p : points) matches.push_back({p, p, Eigen::Matrix3d::Identity() / sigma});
-    const RegistrationCovarianceResult model =
+    const RegisteredPose model =
         RegistrationCovariance(Eigen::Isometry3d::Identity(), matches, nullptr, config);
     ASSERT_TRUE(model.valid);
 

@@ -102,6 +102,18 @@ struct StageTimes {
     double total_ms = 0.0;
 };
 
+/// The registered pose and its covariance by registration_covariance (the xi convention below):
+/// the fused pose's other input, for comparison. With refinement ceres it is the pose the map is
+/// built from (registration, Doppler and prior residuals on the map's own chain of poses, locked
+/// to the map); with none and window the registration alone.
+struct RegisteredPose {
+    bool valid = false;  ///< false on the first scan, on a fallback, or a singular information
+    Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
+    Matrix6d covariance = Matrix6d::Zero();
+    double residual_scale = 0.0;  ///< whitened residual RMS (1 = the noise model)
+    int clusters = 0;             ///< independent groups of residuals (clustered model)
+};
+
 struct RegistrationResult {
     Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
     /// Covariance of T_world_base given the map and the previous pose (both fixed), as the
@@ -111,16 +123,7 @@ struct RegistrationResult {
     /// origin). It is the uncertainty of this scan's motion relative to the map and the previous
     /// pose, not the accumulated drift of the map.
     Matrix6d covariance = Matrix6d::Zero();
-    /// The registered pose and its covariance by registration_covariance: the fused pose's other
-    /// input, for comparison. With refinement ceres it is the pose the map is built from
-    /// (registration, Doppler and prior residuals on the map's own chain of poses, locked to the
-    /// map); with none and window the registration alone. registration_valid is false on the first
-    /// scan and on a fallback.
-    bool registration_valid = false;
-    Eigen::Isometry3d T_world_base_registration = Eigen::Isometry3d::Identity();
-    Matrix6d registration_covariance = Matrix6d::Zero();
-    double registration_residual_scale = 0.0;  ///< whitened residual RMS (1 = the noise model)
-    int registration_clusters = 0;             ///< independent groups (clustered model)
+    RegisteredPose registered;    ///< the registration's estimate that T_world_base fuses
     bool first_scan = false;      ///< the map was empty: the pose is the prior and starts the map
     bool fallback = false;        ///< registration not trusted: the pose is the prior
     std::string fallback_reason;  ///< why (empty when registered)
