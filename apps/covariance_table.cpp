@@ -55,7 +55,7 @@ void CovarianceTable::Add(const frontend::FrontEndResult &result) {
     const char *status = r.first_scan         ? "first_scan"
                          : r.fallback         ? "fallback"
                          : r.registered.valid ? "fused"
-                                              : "registration_only";
+                                              : "unrefined";
     char t[32];
     std::snprintf(t, sizeof(t), "%.9f", NanosToSeconds(result.stamp_ns));
     csv_ += std::string(t) + "," + status;

@@ -4,7 +4,8 @@
 /// refinement fuses and their covariances, so that the prior alone, the registration alone and the
 /// fused pose can be compared in one run (benchmarks/mapping/fusion_nees.py scores them).
 ///
-/// Columns: t, status (first_scan | fused | registration_only | fallback), then for each of
+/// Columns: t, status (first_scan | fused | unrefined | fallback; unrefined: registered but the
+/// refinement failed, the covariance is the prior's), then for each of
 /// `fused`, `registration`, `prior`: the pose (x y z qx qy qz qw, world frame, the fused one is
 /// trajectory.tum's) and the 21 upper-triangle entries c_ij of its 6x6 covariance, i <= j over the
 /// axes x y z rx ry rz of the right perturbation xi = [rho; phi] in that pose's base frame

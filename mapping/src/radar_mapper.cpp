@@ -285,6 +285,7 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
     const auto t_start = Clock::now();
     RegistrationResult result;
     result.T_world_base = prior.T_world_base;
+    result.covariance = prior.covariance;  // until a refinement fuses the registration into it
     s.window_matches.clear();
     result.threshold_m = s.threshold.Threshold();
 
@@ -304,7 +305,8 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
             s.T_map_base_last * s.T_world_base_last.inverse() * prior.T_world_base;
     Eigen::Isometry3d T_map = prior_map.T_world_base;
     if (s.map.empty()) {
-        result.first_scan = true;  // the first scan starts the map at the prior
+        result.first_scan = true;  // the first scan starts the map at the prior, its origin
+        result.covariance.setZero();
     } else if (result.source_points < config.min_correspondences) {
         result.fallback = true;
         result.fallback_reason = "too few points (" + std::to_string(result.source_points) + ")";
@@ -314,7 +316,6 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
     if (result.fallback) {
         result.T_world_base = prior.T_world_base;
         T_map = prior_map.T_world_base;
-        result.covariance = prior.covariance;
         ++s.fallbacks;
     }
     if (s.window) {  // every scan enters the window; a fallback one without registration residuals

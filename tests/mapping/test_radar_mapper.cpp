@@ -2,6 +2,8 @@
 // scene falls back to the prior, and a short drive stays within a stated RPE.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <random>
 
 #include "dorado/core/lie.hpp"
@@ -102,6 +104,13 @@ DriveResult Drive(int scans, bool use_mask, Refinement refinement) {
                         r.fitness_rms_m, r.observability, r.prior_mahalanobis_squared,
                         r.threshold_m,
                         (truth[k].T_world_base.inverse() * r.T_world_base).translation().norm());
+        // The pose's covariance: zero at the map's origin, positive definite after it.
+        if (k == 0)
+            EXPECT_TRUE(r.covariance.isZero());
+        else
+            EXPECT_GT(
+                Eigen::SelfAdjointEigenSolver<Matrix6d>(r.covariance).eigenvalues().minCoeff(), 0.0)
+                << "scan " << k;
         estimated.push_back(r.T_world_base);
     }
     for (int k = 1; k < scans; ++k) {
@@ -200,6 +209,7 @@ TEST(RadarMapper, OneWallFallsBackToThePrior) {
     EXPECT_TRUE(r.fallback);
     EXPECT_NE(r.fallback_reason.find("degenerate"), std::string::npos) << r.fallback_reason;
     EXPECT_TRUE(r.T_world_base.isApprox(prior.T_world_base));
+    EXPECT_TRUE(r.covariance.isApprox(prior.covariance));  // the prior's, as its pose
     EXPECT_LT(r.observability, MapperConfig{}.min_observability);
     std::printf("one wall: observability %.5f\n", r.observability);
     EXPECT_EQ(mapper.fallbacks(), 1);

@@ -119,9 +119,9 @@ struct RegistrationResult {
     /// Covariance of T_world_base given the map and the previous pose (both fixed), as the
     /// right perturbation xi = [rho; phi] in the base frame (T_true = T_world_base ExpSE3(xi),
     /// MotionPrior's convention): the fused information of the prior, the registration and the
-    /// Doppler residuals. The prior's covariance on a fallback; zero on the first scan (the map's
-    /// origin). It is the uncertainty of this scan's motion relative to the map and the previous
-    /// pose, not the accumulated drift of the map.
+    /// Doppler residuals. The prior's covariance on a fallback or when the refinement fails; zero
+    /// on the first scan (the map's origin). It is the uncertainty of this scan's motion relative
+    /// to the map and the previous pose, not the accumulated drift of the map.
     Matrix6d covariance = Matrix6d::Zero();
     RegisteredPose registered;    ///< the registration's estimate that T_world_base fuses
     bool first_scan = false;      ///< the map was empty: the pose is the prior and starts the map
