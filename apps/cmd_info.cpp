@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "dorado/core/time.hpp"
 #include "dorado/io/dataset.hpp"
+#include "dorado/io/folder_layout.hpp"
 #include "progress.hpp"
 
 namespace dorado::apps {
@@ -66,11 +67,33 @@ void PrintTopics(const std::vector<io::TopicSummary> &topics, const io::DatasetC
     }
 }
 
+std::string DescribeSource(const io::DatasetConfig &config) {
+    switch (config.reader) {
+        case io::ReaderKind::kRosbag:
+            return "rosbag " + config.rosbag.path;
+        case io::ReaderKind::kFolder:
+            return "folder " + config.folder.scans_dir;
+        case io::ReaderKind::kRadarScenes:
+            return "RadarScenes " + config.radarscenes.sequence_dir + ", sensor_id " +
+                   std::to_string(config.radarscenes.sensor_id);
+        case io::ReaderKind::kNuScenes:
+            return "nuScenes " + config.nuscenes.dataroot + " " + config.nuscenes.version + ", " +
+                   config.nuscenes.scene + ", " + config.nuscenes.channel;
+    }
+    return "";
+}
+
 int RunInfo(const std::string &dataset_arg) {
     const io::DatasetConfig config = io::ResolveDataset(dataset_arg);
     const bool is_bag = config.reader == io::ReaderKind::kRosbag;
-    std::printf("dataset: %s (%s %s)\n", config.name.c_str(), is_bag ? "rosbag" : "folder",
-                is_bag ? config.rosbag.path.c_str() : config.folder.scans_dir.c_str());
+    std::printf("dataset: %s (%s)\n", config.name.c_str(), DescribeSource(config).c_str());
+    // A layout the folder's files do not fit: every scan would be refused or read wrongly.
+    if (const auto layout = io::CheckFolderLayout(config)) {
+        std::printf("problems:\n  scan files that do not fit the description: the folder is "
+                    "refused\n    - %s\n    fix: %s\n",
+                    layout->message.c_str(), layout->fix.c_str());
+        return 1;
+    }
     const auto topics = io::ListTopics(config);
     PrintTopics(topics, config);
     std::size_t expected_scans = 0;
@@ -198,6 +221,14 @@ int RunInfo(const std::string &dataset_arg) {
     }
     if (!config.rosbag.imu_topic.empty() || imu > 0) std::printf("imu samples: %zu\n", imu);
     if (gt > 0) std::printf("ground-truth poses in the bag: %zu\n", gt);
+    if (config.reader == io::ReaderKind::kRadarScenes || config.reader == io::ReaderKind::kNuScenes) {
+        if (const auto reference = io::LoadGroundTruth(config); reference && !reference->empty())
+            std::printf("reference trajectory (the data set's): %zu poses, %.2f s, %.1f m\n",
+                        reference->size(),
+                        NanosToSeconds(reference->poses().back().stamp_ns -
+                                       reference->poses().front().stamp_ns),
+                        reference->PathLength());
+    }
     problems.Print();
     return 0;
 }

@@ -17,6 +17,10 @@ std::unique_ptr<DatasetReader> OpenDataset(const DatasetConfig &config) {
             return OpenRecordingReader(config);
         case ReaderKind::kFolder:
             return OpenFolderReader(config);
+        case ReaderKind::kRadarScenes:
+            return OpenRadarScenesReader(config);
+        case ReaderKind::kNuScenes:
+            return OpenNuScenesReader(config);
     }
     throw DatasetError(config.config_path + ": unknown reader");
 }
@@ -26,17 +30,30 @@ std::vector<TopicSummary> ListTopics(const DatasetConfig &config) {
         if (DetectBagFormat(config.rosbag.path) == BagFormat::kRos1) return ListBagTopics(config);
         return ListRosbag2Topics(config);
     }
-    auto reader = OpenFolderReader(config);  // validates the folder and the timestamps file
+    // One stream of scans: a folder (this validates it and its timestamps file) or a data set's own
+    // files, counted by reading them.
+    auto reader = OpenDataset(config);
     TopicSummary summary;
-    summary.topic = config.folder.scans_dir;
-    summary.type = "*" + config.folder.extension + " scan files";
+    summary.topic = reader->source();
+    switch (config.reader) {
+        case ReaderKind::kRadarScenes:
+            summary.type = "RadarScenes radar_data.h5";
+            summary.fields = "range_sc, azimuth_sc, rcs, vr";
+            break;
+        case ReaderKind::kNuScenes:
+            summary.type = "nuScenes radar PCD sweeps";
+            summary.fields = "x, y, z, rcs, vx, vy (Doppler from vx, vy)";
+            break;
+        default:
+            summary.type = "*" + config.folder.extension + " scan files";
+            for (const auto &c : config.folder.columns)
+                summary.fields += (summary.fields.empty() ? "" : ", ") + c;
+    }
     DatasetEvent event;
     while (reader->Next(event)) {
         if (summary.messages++ == 0) summary.first_ns = event.stamp_ns;
         summary.last_ns = event.stamp_ns;
     }
-    for (const auto &c : config.folder.columns)
-        summary.fields += (summary.fields.empty() ? "" : ", ") + c;
     return {summary};
 }
 
@@ -52,6 +69,8 @@ std::optional<Trajectory> LoadGroundTruth(const DatasetConfig &config) {
                 return ReadPaperCsv(gt.path);
         }
     }
+    if (config.reader == ReaderKind::kRadarScenes) return LoadRadarScenesOdometry(config);
+    if (config.reader == ReaderKind::kNuScenes) return LoadNuScenesEgoPoses(config);
     if (config.reader != ReaderKind::kRosbag || config.rosbag.ground_truth_topic.empty())
         return std::nullopt;
     // Ground truth recorded in the bag: read only that topic.

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "dataset_formats.hpp"
 #include "dorado/io/yaml_section.hpp"
 
 namespace dorado::io {
@@ -130,7 +131,10 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
     config.name = top.Get<std::string>("name", fs::path(yaml_path).stem().string());
 
     top.ReadEnum("reader", config.reader,
-                 {{"rosbag", ReaderKind::kRosbag}, {"folder", ReaderKind::kFolder}});
+                 {{"rosbag", ReaderKind::kRosbag},
+                  {"folder", ReaderKind::kFolder},
+                  {"radarscenes", ReaderKind::kRadarScenes},
+                  {"nuscenes", ReaderKind::kNuScenes}});
 
     YamlSection rosbag = top.Child("rosbag");
     config.rosbag.path = ResolvePath(rosbag.Get<std::string>("path", ""), base_dir);
@@ -167,6 +171,8 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
         }
     }
 
+    ReadFormatSections(top, base_dir, config);
+
     config.fields = ReadFieldMap(top.Child("fields"));
 
     YamlSection gt = top.Child("ground_truth");
@@ -185,6 +191,7 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
 
     YamlSection extrinsics = top.Child("extrinsics");
     config.extrinsics.T_base_radar = ReadTransform(extrinsics.Child("T_base_radar"));
+    if (!extrinsics.Has("T_base_radar")) ApplyFormatMount(config);  // the data set's own
     config.extrinsics.T_base_imu = ReadTransform(extrinsics.Child("T_base_imu"));
     extrinsics.RejectUnknownKeys();
 
@@ -247,6 +254,20 @@ DatasetConfig ResolveDataset(const std::string &argument) {
 
 namespace {
 
+const char *ReaderName(ReaderKind reader) {
+    switch (reader) {
+        case ReaderKind::kRosbag:
+            return "rosbag";
+        case ReaderKind::kFolder:
+            return "folder";
+        case ReaderKind::kRadarScenes:
+            return "radarscenes";
+        case ReaderKind::kNuScenes:
+            return "nuscenes";
+    }
+    return "rosbag";
+}
+
 // `key: [x, y, z]`, the form ReadVector3 reads back.
 void EmitVector3(YAML::Emitter &out, const char *key, const Eigen::Vector3d &v) {
     out << YAML::Key << key << YAML::Value << YAML::Flow
@@ -269,8 +290,7 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
     out.SetDoublePrecision(17);
     out << YAML::BeginMap;
     out << YAML::Key << "name" << YAML::Value << config.name;
-    out << YAML::Key << "reader" << YAML::Value
-        << (config.reader == ReaderKind::kRosbag ? "rosbag" : "folder");
+    out << YAML::Key << "reader" << YAML::Value << ReaderName(config.reader);
     if (config.reader == ReaderKind::kRosbag) {
         out << YAML::Key << "rosbag" << YAML::Value << YAML::BeginMap;
         out << YAML::Key << "path" << YAML::Value << config.rosbag.path;
@@ -284,7 +304,7 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
                 << config.rosbag.radar_trigger_offset_s;
         }
         out << YAML::EndMap;
-    } else {
+    } else if (config.reader == ReaderKind::kFolder) {
         out << YAML::Key << "folder" << YAML::Value << YAML::BeginMap;
         out << YAML::Key << "scans_dir" << YAML::Value << config.folder.scans_dir;
         out << YAML::Key << "extension" << YAML::Value << config.folder.extension;
@@ -292,6 +312,7 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
         out << YAML::Key << "columns" << YAML::Value << YAML::Flow << config.folder.columns;
         out << YAML::EndMap;
     }
+    EmitFormatSection(out, config);
     const FieldMap &f = config.fields;
     out << YAML::Key << "fields" << YAML::Value << YAML::BeginMap;
     for (const auto &[key, value] :

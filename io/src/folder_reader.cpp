@@ -34,22 +34,6 @@ std::vector<int64_t> ReadTimestamps(const std::string &path) {
     return stamps;
 }
 
-std::vector<std::string> ListScanFiles(const FolderSource &folder) {
-    std::error_code ec;
-    if (!fs::is_directory(folder.scans_dir, ec))
-        throw DatasetError(folder.scans_dir + ": no such folder");
-    std::vector<std::string> files;
-    for (const auto &entry : fs::directory_iterator(folder.scans_dir)) {
-        if (entry.is_regular_file() && entry.path().extension() == folder.extension) {
-            files.push_back(entry.path().string());
-        }
-    }
-    std::sort(files.begin(), files.end());
-    if (files.empty())
-        throw DatasetError(folder.scans_dir + ": no *" + folder.extension + " files");
-    return files;
-}
-
 class FolderReader final : public DatasetReader {
   public:
     explicit FolderReader(const DatasetConfig &config)
@@ -62,6 +46,9 @@ class FolderReader final : public DatasetReader {
                                std::to_string(files_.size()) + " scan files in " +
                                config.folder.scans_dir);
         }
+        // Before any scan is used: a layout that most files do not fit is refused as a whole.
+        if (const auto problem = CheckFolderFiles(config, files_))
+            throw DatasetError(problem->message);
     }
 
     bool Next(DatasetEvent &event) override {

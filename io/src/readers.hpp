@@ -4,11 +4,23 @@
 #include <memory>
 
 #include "dorado/io/dataset.hpp"
+#include "dorado/io/folder_layout.hpp"
 
 namespace dorado::io {
 
 [[nodiscard]] std::unique_ptr<DatasetReader> OpenBagReader(const DatasetConfig &config);
 [[nodiscard]] std::unique_ptr<DatasetReader> OpenFolderReader(const DatasetConfig &config);
+
+/// The data sets' own formats (dataset_config.hpp: RadarScenesSource, NuScenesSource).
+[[nodiscard]] std::unique_ptr<DatasetReader> OpenRadarScenesReader(const DatasetConfig &config);
+[[nodiscard]] std::unique_ptr<DatasetReader> OpenNuScenesReader(const DatasetConfig &config);
+/// T_base_radar as the data set publishes it (sensors.json; calibrated_sensor). Throws DatasetError.
+[[nodiscard]] Eigen::Isometry3d RadarScenesMount(const DatasetConfig &config);
+[[nodiscard]] Eigen::Isometry3d NuScenesMount(const DatasetConfig &config);
+/// The data set's reference trajectory of the base (RadarScenes' odometry table; nuScenes' ego
+/// poses of the scene). Throws DatasetError.
+[[nodiscard]] Trajectory LoadRadarScenesOdometry(const DatasetConfig &config);
+[[nodiscard]] Trajectory LoadNuScenesEgoPoses(const DatasetConfig &config);
 
 [[nodiscard]] std::unique_ptr<DatasetReader> OpenRosbag2Reader(const DatasetConfig &config);
 /// rosbag.path's recording, ROS1 or rosbag2, whichever its bytes say it is.
@@ -16,6 +28,12 @@ namespace dorado::io {
 
 [[nodiscard]] std::vector<TopicSummary> ListBagTopics(const DatasetConfig &config);
 [[nodiscard]] std::vector<TopicSummary> ListRosbag2Topics(const DatasetConfig &config);
+
+/// The folder's scan files with its extension, sorted. Throws DatasetError (no folder, no files).
+[[nodiscard]] std::vector<std::string> ListScanFiles(const FolderSource &folder);
+/// CheckFolderLayout on an already listed folder.
+[[nodiscard]] std::optional<FolderLayoutProblem> CheckFolderFiles(
+    const DatasetConfig &config, const std::vector<std::string> &files);
 
 /// Decimal seconds to integer nanoseconds without rounding through a double; false if malformed.
 bool ParseSecondsToNanos(const std::string &token, int64_t &ns);

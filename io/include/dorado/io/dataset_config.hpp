@@ -13,7 +13,9 @@
 
 namespace dorado::io {
 
-enum class ReaderKind { kRosbag, kFolder };
+/// kRadarScenes and kNuScenes read those data sets' own files (radarscenes_reader.cpp,
+/// nuscenes_reader.cpp): the scans, their times, the mount and the reference trajectory.
+enum class ReaderKind { kRosbag, kFolder, kRadarScenes, kNuScenes };
 enum class TrajectoryFormat { kTum, kKitti, kPaperCsv };
 
 struct RosbagSource {
@@ -40,6 +42,26 @@ struct FolderSource {
     std::vector<std::string> columns;
 };
 
+/// RadarScenes (radar-scenes.com): one sequence, the scans of one of its four radars. Points from
+/// range_sc, azimuth_sc (z = 0), Doppler from vr (raw), power from rcs; times = timestamp [us].
+/// The mount is sensors.json's unless extrinsics.T_base_radar is given; the reference trajectory is
+/// the h5 file's `odometry` (x_seq, y_seq, yaw_seq) unless ground_truth.path is given.
+struct RadarScenesSource {
+    std::string sequence_dir;  ///< holds radar_data.h5 and scenes.json; sensors.json here or above
+    int sensor_id = 0;         ///< 1..4: the radar whose scans are read
+};
+
+/// nuScenes: one scene's sweeps of one radar channel (binary PCD v0.7), indexed by the JSON tables
+/// (scene, sample, sample_data, sensor, calibrated_sensor, ego_pose). Doppler = (x vx + y vy) /
+/// hypot(x, y) from the uncompensated vx, vy; power from rcs. The mount is calibrated_sensor's
+/// unless extrinsics.T_base_radar is given; the reference trajectory is the scene's ego poses.
+struct NuScenesSource {
+    std::string dataroot;  ///< holds samples/ and sweeps/ (sample_data.filename is relative to it)
+    std::string version;   ///< the folder of the JSON tables under dataroot, e.g. v1.0-mini
+    std::string scene;     ///< the scene's name, e.g. scene-0061
+    std::string channel;   ///< the radar's channel, e.g. RADAR_FRONT
+};
+
 struct GroundTruthFile {
     std::string path;  ///< empty = none
     TrajectoryFormat format = TrajectoryFormat::kTum;
@@ -52,6 +74,8 @@ struct DatasetConfig {
     ReaderKind reader = ReaderKind::kRosbag;
     RosbagSource rosbag;
     FolderSource folder;
+    RadarScenesSource radarscenes;
+    NuScenesSource nuscenes;
     GroundTruthFile ground_truth;
     FieldMap fields;
     Extrinsics extrinsics;

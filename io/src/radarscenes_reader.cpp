@@ -1,0 +1,236 @@
+// RadarScenes (O. Schumann et al., FUSION 2021) in its own files, as its devkit
+// (oleschum/radar_scenes) reads them:
+// - radar_data.h5, table `radar_data`: one row per detection (timestamp [us], sensor_id, range_sc,
+//   azimuth_sc, rcs, vr, vr_compensated, x_cc, y_cc, x_seq, y_seq, uuid, track_id, label_id);
+//   table `odometry`: the car's pose per odometry time (timestamp, x_seq, y_seq, yaw_seq, vx,
+//   yaw_rate);
+// - scenes.json: `scenes`, keyed by timestamp, each with sensor_id and radar_indices [first, end)
+//   into radar_data (one scene = one measurement of one radar);
+// - sensors.json: `radar_<id>` with the mount x, y [m], yaw [rad] in the car frame (rear axle).
+// A scan is one scene of the configured sensor; its rows are checked to be that sensor's at that
+// timestamp.
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "h5_table.hpp"
+#include "readers.hpp"
+
+namespace dorado::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int64_t kNanosPerMicro = 1000;
+
+nlohmann::json ReadJson(const std::string &path) {
+    std::ifstream in(path);
+    if (!in) throw DatasetError(path + ": cannot open");
+    try {
+        return nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception &e) {
+        throw DatasetError(path + ": not valid JSON: " + e.what());
+    }
+}
+
+struct Scene {
+    int64_t timestamp_us = 0;
+    std::size_t first_row = 0, end_row = 0;
+};
+
+// The scenes of one sensor from scenes.json, in time order.
+std::vector<Scene> SensorScenes(const std::string &path, int sensor_id) {
+    const nlohmann::json json = ReadJson(path);
+    if (!json.contains("scenes") || !json["scenes"].is_object())
+        throw DatasetError(path + ": no 'scenes' object");
+    std::vector<Scene> scenes;
+    std::vector<int> sensors;
+    for (const auto &[key, scene] : json["scenes"].items()) {
+        try {
+            const int id = scene.at("sensor_id").get<int>();
+            if (std::find(sensors.begin(), sensors.end(), id) == sensors.end())
+                sensors.push_back(id);
+            if (id != sensor_id) continue;
+            const auto &indices = scene.at("radar_indices");
+            if (!indices.is_array() || indices.size() != 2)
+                throw DatasetError(path + ": scene " + key + ": radar_indices is not [first, end]");
+            Scene s;
+            s.timestamp_us = std::stoll(key);
+            s.first_row = indices[0].get<std::size_t>();
+            s.end_row = indices[1].get<std::size_t>();
+            scenes.push_back(s);
+        } catch (const nlohmann::json::exception &e) {
+            throw DatasetError(path + ": scene " + key + ": " + e.what());
+        } catch (const std::logic_error &) {
+            throw DatasetError(path + ": scene key '" + key + "' is not a timestamp");
+        }
+    }
+    if (scenes.empty()) {
+        std::sort(sensors.begin(), sensors.end());
+        std::string list;
+        for (int id : sensors) list += (list.empty() ? "" : ", ") + std::to_string(id);
+        throw DatasetError(path + ": no scene of sensor_id " + std::to_string(sensor_id) +
+                           " (the sequence has sensors " + (list.empty() ? "none" : list) + ")");
+    }
+    std::sort(scenes.begin(), scenes.end(),
+              [](const Scene &a, const Scene &b) { return a.timestamp_us < b.timestamp_us; });
+    return scenes;
+}
+
+std::string H5Path(const DatasetConfig &config) {
+    return (fs::path(config.radarscenes.sequence_dir) / "radar_data.h5").string();
+}
+
+class RadarScenesReader final : public DatasetReader {
+  public:
+    explicit RadarScenesReader(const DatasetConfig &config)
+        : source_(H5Path(config) + " (sensor_id " + std::to_string(config.radarscenes.sensor_id) +
+                  ")"),
+          sensor_id_(config.radarscenes.sensor_id),
+          scenes_(SensorScenes(
+              (fs::path(config.radarscenes.sequence_dir) / "scenes.json").string(), sensor_id_)),
+          file_(OpenH5File(H5Path(config))),
+          table_(file_, H5Path(config), "radar_data",
+                 {{"timestamp", ColumnKind::kInteger},
+                  {"sensor_id", ColumnKind::kInteger},
+                  {"range_sc", ColumnKind::kFloat},
+                  {"azimuth_sc", ColumnKind::kFloat},
+                  {"rcs", ColumnKind::kFloat},
+                  {"vr", ColumnKind::kFloat}}) {}
+
+    bool Next(DatasetEvent &event) override {
+        if (next_ >= scenes_.size()) return false;
+        event = DatasetEvent{};
+        event.scan_index = next_;
+        const Scene &scene = scenes_[next_++];
+        event.stamp_ns = scene.timestamp_us * kNanosPerMicro;
+        const std::string problem = CheckRows(scene);
+        if (!problem.empty()) {
+            event.kind = DatasetEvent::Kind::kBadScan;
+            event.problem = table_.Where("timestamp") + " (scan " +
+                            std::to_string(event.scan_index) + ", scene " +
+                            std::to_string(scene.timestamp_us) + "): " + problem;
+            return true;
+        }
+        event.kind = DatasetEvent::Kind::kRadarScan;
+        event.scan = ReadScan(scene);
+        event.scan.stamp_ns = event.stamp_ns;
+        event.scan.frame_id = "radar_" + std::to_string(sensor_id_);
+        event.removed_nonfinite_points = RemoveNonFinitePoints(event.scan);
+        return true;
+    }
+
+    [[nodiscard]] std::string source() const override { return source_; }
+
+  private:
+    // Empty when rows [first, end) are all this sensor's at the scene's timestamp.
+    [[nodiscard]] std::string CheckRows(const Scene &scene) const {
+        if (scene.first_row > scene.end_row || scene.end_row > table_.rows())
+            return "radar_indices [" + std::to_string(scene.first_row) + ", " +
+                   std::to_string(scene.end_row) + ") outside the table's " +
+                   std::to_string(table_.rows()) + " rows";
+        const std::size_t n = scene.end_row - scene.first_row;
+        const auto stamps = table_.Integers("timestamp", scene.first_row, n);
+        const auto sensors = table_.Integers("sensor_id", scene.first_row, n);
+        for (std::size_t i = 0; i < n; ++i) {
+            if (stamps[i] != scene.timestamp_us || sensors[i] != sensor_id_)
+                return "row " + std::to_string(scene.first_row + i) + " is sensor " +
+                       std::to_string(sensors[i]) + " at " + std::to_string(stamps[i]) +
+                       ", not the scene's sensor " + std::to_string(sensor_id_);
+        }
+        return "";
+    }
+
+    [[nodiscard]] RadarScan ReadScan(const Scene &scene) const {
+        const std::size_t first = scene.first_row, n = scene.end_row - scene.first_row;
+        const auto range = table_.Floats("range_sc", first, n);
+        const auto azimuth = table_.Floats("azimuth_sc", first, n);
+        const auto rcs = table_.Floats("rcs", first, n);
+        const auto vr = table_.Floats("vr", first, n);
+        RadarScan scan;
+        scan.Resize(static_cast<Eigen::Index>(n));
+        scan.has_power = true;
+        for (std::size_t k = 0; k < n; ++k) {
+            const auto i = static_cast<Eigen::Index>(k);
+            // Sensor coordinates: x forward, azimuth from x towards y, no elevation (a 2D radar).
+            scan.xyz_radar.col(i) << range[k] * std::cos(azimuth[k]),
+                range[k] * std::sin(azimuth[k]), 0.0;
+            scan.range_m[i] = range[k];
+            scan.azimuth_rad[i] = azimuth[k];
+            scan.elevation_rad[i] = 0.0;
+            scan.power_db[i] = rcs[k];
+            scan.doppler_mps[i] = vr[k];  // raw radial velocity, positive = receding
+        }
+        return scan;
+    }
+
+    std::string source_;
+    int sensor_id_;
+    std::vector<Scene> scenes_;
+    H5Id file_;
+    H5Table table_;
+    std::size_t next_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<DatasetReader> OpenRadarScenesReader(const DatasetConfig &config) {
+    return std::make_unique<RadarScenesReader>(config);
+}
+
+Trajectory LoadRadarScenesOdometry(const DatasetConfig &config) {
+    const std::string path = H5Path(config);
+    const H5Id file = OpenH5File(path);
+    const H5Table odometry(file, path, "odometry",
+                           {{"timestamp", ColumnKind::kInteger},
+                            {"x_seq", ColumnKind::kFloat},
+                            {"y_seq", ColumnKind::kFloat},
+                            {"yaw_seq", ColumnKind::kFloat}});
+    const std::size_t n = odometry.rows();
+    const auto t = odometry.Integers("timestamp", 0, n);
+    const auto x = odometry.Floats("x_seq", 0, n), y = odometry.Floats("y_seq", 0, n),
+               yaw = odometry.Floats("yaw_seq", 0, n);
+    std::vector<StampedPose> poses(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        poses[i].stamp_ns = t[i] * kNanosPerMicro;
+        poses[i].T_world_body.translation() << x[i], y[i], 0.0;  // the sequence frame, 2D
+        poses[i].T_world_body.linear() =
+            Eigen::AngleAxisd(yaw[i], Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    }
+    try {
+        return Trajectory(std::move(poses));
+    } catch (const std::invalid_argument &e) {
+        throw DatasetError(odometry.Where("timestamp") + ": " + e.what());
+    }
+}
+
+Eigen::Isometry3d RadarScenesMount(const DatasetConfig &config) {
+    // The data set keeps sensors.json next to the sequence folders; a copy inside one also works.
+    const fs::path dir(config.radarscenes.sequence_dir);
+    fs::path path = dir / "sensors.json";
+    if (!fs::exists(path)) path = dir.parent_path() / "sensors.json";
+    if (!fs::exists(path))
+        throw DatasetError((dir / "sensors.json").string() + ": missing (and none in " +
+                           dir.parent_path().string() +
+                           "): give the mount as extrinsics.T_base_radar");
+    const nlohmann::json json = ReadJson(path.string());
+    const std::string name = "radar_" + std::to_string(config.radarscenes.sensor_id);
+    Eigen::Isometry3d T_base_radar = Eigen::Isometry3d::Identity();
+    try {
+        const auto &mount = json.at(name);
+        T_base_radar.translation() << mount.at("x").get<double>(), mount.at("y").get<double>(),
+            0.0;  // no height in the data set: the radar's plane is the car's
+        T_base_radar.linear() =
+            Eigen::AngleAxisd(mount.at("yaw").get<double>(), Eigen::Vector3d::UnitZ())
+                .toRotationMatrix();
+    } catch (const nlohmann::json::exception &e) {
+        throw DatasetError(path.string() + ": " + name + ": " + e.what());
+    }
+    return T_base_radar;
+}
+
+}  // namespace dorado::io
