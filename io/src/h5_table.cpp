@@ -1,5 +1,6 @@
 #include "h5_table.hpp"
 
+#include <algorithm>
 #include <utility>
 
 #include "dorado/io/dataset.hpp"
@@ -88,41 +89,64 @@ H5Table::H5Table(const H5Id &file, std::string path, std::string name,
             throw DatasetError(Where(column.name) + ": " + ClassName(found) + " field, expected " +
                                ClassName(wanted));
     }
+    // The memory layout of Rows(): HDF5 converts each member from the file's type by name.
+    columns_ = columns.size();
+    row_type_ = H5Id(H5Tcreate(H5T_COMPOUND, std::max<std::size_t>(1, columns_) * 8), H5Tclose);
+    for (std::size_t k = 0; k < columns_; ++k) {
+        H5Tinsert(row_type_.get(), columns[k].name, 8 * k,
+                  columns[k].kind == ColumnKind::kInteger ? H5T_NATIVE_INT64 : H5T_NATIVE_DOUBLE);
+    }
+}
+
+std::vector<H5Value> H5Table::Rows(std::size_t first, std::size_t count) const {
+    std::vector<H5Value> values(count * columns_);
+    Read("*", row_type_.get(), first, count, values.data());
+    return values;
 }
 
 std::string H5Table::Where(const char *column) const { return path_ + ": " + name_ + "." + column; }
 
-void H5Table::Read(const char *column, hid_t native, std::size_t size, std::size_t first,
-                   std::size_t count, void *out) const {
+void H5Table::Read(const char *column, hid_t memory_type, std::size_t first, std::size_t count,
+                   void *out) const {
     if (count == 0) return;
     if (first + count > rows_)
         throw DatasetError(Where(column) + ": rows " + std::to_string(first) + ".." +
                            std::to_string(first + count) + " beyond its " +
                            std::to_string(rows_) + " rows");
-    // One member of the compound row, converted by HDF5 from the file's type to `native`.
-    const H5Id memory_type(H5Tcreate(H5T_COMPOUND, size), H5Tclose);
-    H5Tinsert(memory_type.get(), column, 0, native);
     const H5Id file_space(H5Scopy(space_.get()), H5Sclose);
     const hsize_t start[1] = {first}, n[1] = {count};
     H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, n, nullptr);
     const H5Id memory_space(H5Screate_simple(1, n, nullptr), H5Sclose);
-    if (H5Dread(dataset_.get(), memory_type.get(), memory_space.get(), file_space.get(),
+    if (H5Dread(dataset_.get(), memory_type, memory_space.get(), file_space.get(),
                 H5P_DEFAULT, out) < 0)
         throw DatasetError(Where(column) + ": cannot read rows " + std::to_string(first) + ".." +
                            std::to_string(first + count) + " (a truncated file?)");
 }
 
+namespace {
+
+// One member of the compound row, converted by HDF5 from the file's type to `native`.
+H5Id MemberType(const char *column, hid_t native, std::size_t size) {
+    H5Id type(H5Tcreate(H5T_COMPOUND, size), H5Tclose);
+    H5Tinsert(type.get(), column, 0, native);
+    return type;
+}
+
+}  // namespace
+
 std::vector<int64_t> H5Table::Integers(const char *column, std::size_t first,
                                        std::size_t count) const {
     std::vector<int64_t> values(count);
-    Read(column, H5T_NATIVE_INT64, sizeof(int64_t), first, count, values.data());
+    const H5Id type = MemberType(column, H5T_NATIVE_INT64, sizeof(int64_t));
+    Read(column, type.get(), first, count, values.data());
     return values;
 }
 
 std::vector<double> H5Table::Floats(const char *column, std::size_t first,
                                     std::size_t count) const {
     std::vector<double> values(count);
-    Read(column, H5T_NATIVE_DOUBLE, sizeof(double), first, count, values.data());
+    const H5Id type = MemberType(column, H5T_NATIVE_DOUBLE, sizeof(double));
+    Read(column, type.get(), first, count, values.data());
     return values;
 }
 

@@ -41,6 +41,12 @@ struct ColumnSpec {
     ColumnKind kind;
 };
 
+/// One value of a row as read: `i` for an integer column, `f` for a float column.
+union H5Value {
+    int64_t i;
+    double f;
+};
+
 /// The table `name` of `file`: checked at construction to be a 1-D compound dataset holding every
 /// column of `columns` with the kind given (a missing dataset, a missing field or a wrong class is
 /// a DatasetError "FILE: table.field ...").
@@ -49,6 +55,9 @@ class H5Table {
     H5Table(const H5Id &file, std::string path, std::string name,
             const std::vector<ColumnSpec> &columns);
     [[nodiscard]] std::size_t rows() const { return rows_; }
+    /// Rows [first, first + count) of every column given at construction, in one read: value k
+    /// of row r at [r * columns + k] (integers converted to int64, floats to double).
+    [[nodiscard]] std::vector<H5Value> Rows(std::size_t first, std::size_t count) const;
     /// Rows [first, first + count) of an integer column, converted to int64.
     [[nodiscard]] std::vector<int64_t> Integers(const char *column, std::size_t first,
                                                 std::size_t count) const;
@@ -58,11 +67,12 @@ class H5Table {
     [[nodiscard]] std::string Where(const char *column) const;  ///< "FILE: table.column"
 
   private:
-    void Read(const char *column, hid_t native, std::size_t size, std::size_t first,
-              std::size_t count, void *out) const;
+    void Read(const char *column, hid_t memory_type, std::size_t first, std::size_t count,
+              void *out) const;
 
     std::string path_, name_;
-    H5Id dataset_, space_;
+    H5Id dataset_, space_, row_type_;  ///< row_type_: every column, 8 bytes each
+    std::size_t columns_ = 0;
     std::size_t rows_ = 0;
 };
 

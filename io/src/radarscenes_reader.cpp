@@ -108,7 +108,16 @@ class RadarScenesReader final : public DatasetReader {
         event.scan_index = next_;
         const Scene &scene = scenes_[next_++];
         event.stamp_ns = scene.timestamp_us * kNanosPerMicro;
-        const std::string problem = CheckRows(scene);
+        std::string problem;
+        std::vector<H5Value> rows;
+        if (scene.first_row > scene.end_row || scene.end_row > table_.rows()) {
+            problem = "radar_indices [" + std::to_string(scene.first_row) + ", " +
+                      std::to_string(scene.end_row) + ") outside the table's " +
+                      std::to_string(table_.rows()) + " rows";
+        } else {
+            rows = table_.Rows(scene.first_row, scene.end_row - scene.first_row);
+            problem = CheckRows(scene, rows);
+        }
         if (!problem.empty()) {
             event.kind = DatasetEvent::Kind::kBadScan;
             event.problem = table_.Where("timestamp") + " (scan " +
@@ -117,7 +126,7 @@ class RadarScenesReader final : public DatasetReader {
             return true;
         }
         event.kind = DatasetEvent::Kind::kRadarScan;
-        event.scan = ReadScan(scene);
+        event.scan = ToScan(rows);
         event.scan.stamp_ns = event.stamp_ns;
         event.scan.frame_id = "radar_" + std::to_string(sensor_id_);
         event.removed_nonfinite_points = RemoveNonFinitePoints(event.scan);
@@ -127,43 +136,38 @@ class RadarScenesReader final : public DatasetReader {
     [[nodiscard]] std::string source() const override { return source_; }
 
   private:
+    // The columns given to table_, in that order (one value each per row of Rows()).
+    enum Column { kTimestamp, kSensor, kRange, kAzimuth, kRcs, kVr, kColumns };
+
     // Empty when rows [first, end) are all this sensor's at the scene's timestamp.
-    [[nodiscard]] std::string CheckRows(const Scene &scene) const {
-        if (scene.first_row > scene.end_row || scene.end_row > table_.rows())
-            return "radar_indices [" + std::to_string(scene.first_row) + ", " +
-                   std::to_string(scene.end_row) + ") outside the table's " +
-                   std::to_string(table_.rows()) + " rows";
-        const std::size_t n = scene.end_row - scene.first_row;
-        const auto stamps = table_.Integers("timestamp", scene.first_row, n);
-        const auto sensors = table_.Integers("sensor_id", scene.first_row, n);
-        for (std::size_t i = 0; i < n; ++i) {
-            if (stamps[i] != scene.timestamp_us || sensors[i] != sensor_id_)
-                return "row " + std::to_string(scene.first_row + i) + " is sensor " +
-                       std::to_string(sensors[i]) + " at " + std::to_string(stamps[i]) +
+    [[nodiscard]] std::string CheckRows(const Scene &scene, const std::vector<H5Value> &rows) const {
+        for (std::size_t r = 0; r < rows.size() / kColumns; ++r) {
+            const int64_t stamp = rows[r * kColumns + kTimestamp].i;
+            const int64_t sensor = rows[r * kColumns + kSensor].i;
+            if (stamp != scene.timestamp_us || sensor != sensor_id_)
+                return "row " + std::to_string(scene.first_row + r) + " is sensor " +
+                       std::to_string(sensor) + " at " + std::to_string(stamp) +
                        ", not the scene's sensor " + std::to_string(sensor_id_);
         }
         return "";
     }
 
-    [[nodiscard]] RadarScan ReadScan(const Scene &scene) const {
-        const std::size_t first = scene.first_row, n = scene.end_row - scene.first_row;
-        const auto range = table_.Floats("range_sc", first, n);
-        const auto azimuth = table_.Floats("azimuth_sc", first, n);
-        const auto rcs = table_.Floats("rcs", first, n);
-        const auto vr = table_.Floats("vr", first, n);
+    [[nodiscard]] static RadarScan ToScan(const std::vector<H5Value> &rows) {
+        const std::size_t n = rows.size() / kColumns;
         RadarScan scan;
         scan.Resize(static_cast<Eigen::Index>(n));
         scan.has_power = true;
         for (std::size_t k = 0; k < n; ++k) {
             const auto i = static_cast<Eigen::Index>(k);
+            const H5Value *row = &rows[k * kColumns];
+            const double range = row[kRange].f, azimuth = row[kAzimuth].f;
             // Sensor coordinates: x forward, azimuth from x towards y, no elevation (a 2D radar).
-            scan.xyz_radar.col(i) << range[k] * std::cos(azimuth[k]),
-                range[k] * std::sin(azimuth[k]), 0.0;
-            scan.range_m[i] = range[k];
-            scan.azimuth_rad[i] = azimuth[k];
+            scan.xyz_radar.col(i) << range * std::cos(azimuth), range * std::sin(azimuth), 0.0;
+            scan.range_m[i] = range;
+            scan.azimuth_rad[i] = azimuth;
             scan.elevation_rad[i] = 0.0;
-            scan.power_db[i] = rcs[k];
-            scan.doppler_mps[i] = vr[k];  // raw radial velocity, positive = receding
+            scan.power_db[i] = row[kRcs].f;
+            scan.doppler_mps[i] = row[kVr].f;  // raw radial velocity, positive = receding
         }
         return scan;
     }
