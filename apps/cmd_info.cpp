@@ -89,9 +89,10 @@ int RunInfo(const std::string &dataset_arg) {
     std::printf("dataset: %s (%s)\n", config.name.c_str(), DescribeSource(config).c_str());
     // A layout the folder's files do not fit: every scan would be refused or read wrongly.
     if (const auto layout = io::CheckFolderLayout(config)) {
-        std::printf("problems:\n  scan files that do not fit the description: the folder is "
-                    "refused\n    - %s\n    fix: %s\n",
-                    layout->message.c_str(), layout->fix.c_str());
+        std::printf(
+            "problems:\n  scan files that do not fit the description: the folder is "
+            "refused\n    - %s\n    fix: %s\n",
+            layout->message.c_str(), layout->fix.c_str());
         return 1;
     }
     const auto topics = io::ListTopics(config);
@@ -221,7 +222,8 @@ int RunInfo(const std::string &dataset_arg) {
     }
     if (!config.rosbag.imu_topic.empty() || imu > 0) std::printf("imu samples: %zu\n", imu);
     if (gt > 0) std::printf("ground-truth poses in the bag: %zu\n", gt);
-    if (config.reader == io::ReaderKind::kRadarScenes || config.reader == io::ReaderKind::kNuScenes) {
+    if (config.reader == io::ReaderKind::kRadarScenes ||
+        config.reader == io::ReaderKind::kNuScenes) {
         if (const auto reference = io::LoadGroundTruth(config); reference && !reference->empty())
             std::printf("reference trajectory (the data set's): %zu poses, %.2f s, %.1f m\n",
                         reference->size(),

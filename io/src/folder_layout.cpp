@@ -16,7 +16,9 @@ namespace {
 
 constexpr std::size_t kMinColumns = 2, kMaxColumns = 32;
 
-std::string FileName(const std::string &path) { return fs::path(path).filename().string(); }
+std::string FileName(const std::string &path) {
+    return fs::path(path).filename().string();
+}
 
 // "6", "6 or 3", "6, 3 or 2"
 std::string JoinCounts(const std::vector<std::size_t> &counts) {
@@ -90,7 +92,9 @@ std::optional<FolderLayoutProblem> CheckPcdFields(const std::string &folder,
 
 }  // namespace
 
-std::size_t AllowedMisfits(std::size_t files) { return std::max<std::size_t>(1, files / 100); }
+std::size_t AllowedMisfits(std::size_t files) {
+    return std::max<std::size_t>(1, files / 100);
+}
 
 std::vector<std::size_t> ColumnCountsFittingEvery(const std::vector<std::uintmax_t> &sizes_bytes) {
     std::vector<std::size_t> counts;

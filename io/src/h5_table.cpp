@@ -57,8 +57,9 @@ H5Id OpenH5File(const std::string &path) {
     SilenceHdf5();
     H5Id file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
     if (!file.valid())
-        throw DatasetError(path + ": cannot open as an HDF5 file (missing, truncated or another "
-                                  "format)");
+        throw DatasetError(path +
+                           ": cannot open as an HDF5 file (missing, truncated or another "
+                           "format)");
     return file;
 }
 
@@ -81,8 +82,8 @@ H5Table::H5Table(const H5Id &file, std::string path, std::string name,
     for (const ColumnSpec &column : columns) {
         const int index = H5Tget_member_index(type.get(), column.name);
         if (index < 0)
-            throw DatasetError(Where(column.name) + ": no such field (fields: " +
-                               MemberNames(type.get()) + ")");
+            throw DatasetError(Where(column.name) +
+                               ": no such field (fields: " + MemberNames(type.get()) + ")");
         const H5T_class_t found = H5Tget_member_class(type.get(), static_cast<unsigned>(index));
         const H5T_class_t wanted = column.kind == ColumnKind::kInteger ? H5T_INTEGER : H5T_FLOAT;
         if (found != wanted)
@@ -104,21 +105,23 @@ std::vector<H5Value> H5Table::Rows(std::size_t first, std::size_t count) const {
     return values;
 }
 
-std::string H5Table::Where(const char *column) const { return path_ + ": " + name_ + "." + column; }
+std::string H5Table::Where(const char *column) const {
+    return path_ + ": " + name_ + "." + column;
+}
 
 void H5Table::Read(const char *column, hid_t memory_type, std::size_t first, std::size_t count,
                    void *out) const {
     if (count == 0) return;
     if (first + count > rows_)
         throw DatasetError(Where(column) + ": rows " + std::to_string(first) + ".." +
-                           std::to_string(first + count) + " beyond its " +
-                           std::to_string(rows_) + " rows");
+                           std::to_string(first + count) + " beyond its " + std::to_string(rows_) +
+                           " rows");
     const H5Id file_space(H5Scopy(space_.get()), H5Sclose);
     const hsize_t start[1] = {first}, n[1] = {count};
     H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, n, nullptr);
     const H5Id memory_space(H5Screate_simple(1, n, nullptr), H5Sclose);
-    if (H5Dread(dataset_.get(), memory_type, memory_space.get(), file_space.get(),
-                H5P_DEFAULT, out) < 0)
+    if (H5Dread(dataset_.get(), memory_type, memory_space.get(), file_space.get(), H5P_DEFAULT,
+                out) < 0)
         throw DatasetError(Where(column) + ": cannot read rows " + std::to_string(first) + ".." +
                            std::to_string(first + count) + " (a truncated file?)");
 }

@@ -1,5 +1,5 @@
-// nuScenes (H. Caesar et al., CVPR 2020) radar sweeps in their own files, as nutonomy/nuscenes-devkit
-// reads them:
+// nuScenes (H. Caesar et al., CVPR 2020) radar sweeps in their own files, as
+// nutonomy/nuscenes-devkit reads them:
 // - the JSON tables under dataroot/version: scene (name, token), sample (scene_token), sensor
 //   (channel), calibrated_sensor (sensor_token, translation, rotation w x y z = T_ego_sensor),
 //   sample_data (sample_token, calibrated_sensor_token, ego_pose_token, timestamp [us], filename),
@@ -31,7 +31,8 @@ namespace {
 constexpr int64_t kNanosPerMicro = 1000;
 
 std::string TablePath(const DatasetConfig &config, const char *table) {
-    return (fs::path(config.nuscenes.dataroot) / config.nuscenes.version / (table + std::string(".json")))
+    return (fs::path(config.nuscenes.dataroot) / config.nuscenes.version /
+            (table + std::string(".json")))
         .string();
 }
 
@@ -130,7 +131,8 @@ std::vector<Sweep> ChannelSweeps(const DatasetConfig &config) {
         s.calibrated_sensor_token = r.at("calibrated_sensor_token").get<std::string>();
         if (!calibrations.count(s.calibrated_sensor_token)) return;
         s.timestamp_us = r.at("timestamp").get<int64_t>();
-        s.file = (fs::path(config.nuscenes.dataroot) / r.at("filename").get<std::string>()).string();
+        s.file =
+            (fs::path(config.nuscenes.dataroot) / r.at("filename").get<std::string>()).string();
         sweeps.push_back(s);
     });
     if (sweeps.empty())

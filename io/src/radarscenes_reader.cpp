@@ -91,8 +91,8 @@ class RadarScenesReader final : public DatasetReader {
         : source_(H5Path(config) + " (sensor_id " + std::to_string(config.radarscenes.sensor_id) +
                   ")"),
           sensor_id_(config.radarscenes.sensor_id),
-          scenes_(SensorScenes(
-              (fs::path(config.radarscenes.sequence_dir) / "scenes.json").string(), sensor_id_)),
+          scenes_(SensorScenes((fs::path(config.radarscenes.sequence_dir) / "scenes.json").string(),
+                               sensor_id_)),
           file_(OpenH5File(H5Path(config))),
           table_(file_, H5Path(config), "radar_data",
                  {{"timestamp", ColumnKind::kInteger},
@@ -140,7 +140,8 @@ class RadarScenesReader final : public DatasetReader {
     enum Column { kTimestamp, kSensor, kRange, kAzimuth, kRcs, kVr, kColumns };
 
     // Empty when rows [first, end) are all this sensor's at the scene's timestamp.
-    [[nodiscard]] std::string CheckRows(const Scene &scene, const std::vector<H5Value> &rows) const {
+    [[nodiscard]] std::string CheckRows(const Scene &scene,
+                                        const std::vector<H5Value> &rows) const {
         for (std::size_t r = 0; r < rows.size() / kColumns; ++r) {
             const int64_t stamp = rows[r * kColumns + kTimestamp].i;
             const int64_t sensor = rows[r * kColumns + kSensor].i;

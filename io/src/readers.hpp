@@ -14,7 +14,8 @@ namespace dorado::io {
 /// The data sets' own formats (dataset_config.hpp: RadarScenesSource, NuScenesSource).
 [[nodiscard]] std::unique_ptr<DatasetReader> OpenRadarScenesReader(const DatasetConfig &config);
 [[nodiscard]] std::unique_ptr<DatasetReader> OpenNuScenesReader(const DatasetConfig &config);
-/// T_base_radar as the data set publishes it (sensors.json; calibrated_sensor). Throws DatasetError.
+/// T_base_radar as the data set publishes it (sensors.json; calibrated_sensor). Throws
+/// DatasetError.
 [[nodiscard]] Eigen::Isometry3d RadarScenesMount(const DatasetConfig &config);
 [[nodiscard]] Eigen::Isometry3d NuScenesMount(const DatasetConfig &config);
 /// The data set's reference trajectory of the base (RadarScenes' odometry table; nuScenes' ego

@@ -21,8 +21,8 @@ constexpr double kSpeed = 2.0;  // m/s along the radar's x
 class CmdFolderLayout : public ::testing::Test {
   protected:
     static void SetUpTestSuite() {
-        dir_ = fs::path(::testing::TempDir()) / ("dorado_folder_layout_" +
-                                                 std::to_string(::getpid()));
+        dir_ =
+            fs::path(::testing::TempDir()) / ("dorado_folder_layout_" + std::to_string(::getpid()));
         fs::create_directories(dir_ / "scans");
         // Static points around a radar moving at kSpeed along x: x y z rcs v_r label rows, a
         // point count that is not a multiple of 5 in most scans.
@@ -36,9 +36,12 @@ class CmdFolderLayout : public ::testing::Test {
             std::ofstream out(dir_ / "scans" / name, std::ios::binary);
             for (int i = count(rng); i > 0; --i) {
                 const Eigen::Vector3d p(10.0 + 10.0 * u(rng), 15.0 * u(rng), 3.0 * u(rng));
-                const float row[6] = {static_cast<float>(p.x()), static_cast<float>(p.y()),
-                                      static_cast<float>(p.z()), 10.0f,
-                                      static_cast<float>(-kSpeed * p.x() / p.norm()), 11.0f};
+                const float row[6] = {static_cast<float>(p.x()),
+                                      static_cast<float>(p.y()),
+                                      static_cast<float>(p.z()),
+                                      10.0f,
+                                      static_cast<float>(-kSpeed * p.x() / p.norm()),
+                                      11.0f};
                 out.write(reinterpret_cast<const char *>(row), sizeof(row));
             }
             times << 100.0 + 0.1 * k << "\n";
@@ -66,9 +69,8 @@ class CmdFolderLayout : public ::testing::Test {
     static Result Dorado(const std::string &args) {
         const std::string out = (dir_ / "stdout.txt").string(),
                           err = (dir_ / "stderr.txt").string();
-        const int status =
-            std::system((std::string(DORADO_BINARY) + " " + args + " > " + out + " 2> " + err)
-                            .c_str());
+        const int status = std::system(
+            (std::string(DORADO_BINARY) + " " + args + " > " + out + " 2> " + err).c_str());
         auto slurp = [](const std::string &path) {
             std::stringstream ss;
             ss << std::ifstream(path).rdbuf();
@@ -107,8 +109,7 @@ TEST_F(CmdFolderLayout, InfoPrintsTheFindingWithItsFix) {
     const Result r = Dorado("info " + Five());
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.out.find("problems:"), std::string::npos) << r.out;
-    EXPECT_NE(r.out.find("fix: folder.columns has 5 entries; every file fits 6"),
-              std::string::npos)
+    EXPECT_NE(r.out.find("fix: folder.columns has 5 entries; every file fits 6"), std::string::npos)
         << r.out;
     const Result good = Dorado("info " + Six());
     EXPECT_EQ(good.code, 0) << good.out << good.err;

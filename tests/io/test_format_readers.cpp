@@ -72,8 +72,8 @@ class FormatReaders : public ::testing::Test {
     static std::string NuScenesYaml(const std::string &channel, const std::string &version) {
         return Yaml("nu_" + channel + version,
                     "reader: nuscenes\nnuscenes:\n  dataroot: " + (dir_ / "nuscenes").string() +
-                        "\n  version: " + version + "\n  scene: scene-0061\n  channel: " +
-                        channel + "\n");
+                        "\n  version: " + version + "\n  scene: scene-0061\n  channel: " + channel +
+                        "\n");
     }
     static DatasetConfig NuScenes(const std::string &channel = "RADAR_FRONT") {
         return LoadDatasetConfig(NuScenesYaml(channel, "v1.0-mini"));
