@@ -91,7 +91,7 @@ TEST_F(DatasetConfigTest, OutOfRangeAndWrongTypesNameTheKey) {
         "vehicle.model_noise.angular_rate_prior_sigma_radps': must be 3 numbers > 0");
     ExpectError("rosbag: {path: x.bag}\nfields: {doppler_sign: 2}\n",
                 "fields.doppler_sign': must be 1 or -1");
-    ExpectError("reader: lidar\n", "'reader': must be rosbag or folder");
+    ExpectError("reader: lidar\n", "'reader': must be rosbag, folder, radarscenes or nuscenes");
     ExpectError("reader: rosbag\n", "'rosbag.path': is required");
     ExpectError("reader: folder\nfolder: {scans_dir: s, timestamps_file: t}\n",
                 "'folder.columns': is required");
