@@ -1,0 +1,160 @@
+// RANSAC's hypothesis scoring over structure-of-arrays data (robust_fit.hpp, ScoringSet).
+//
+// The scoring subset is stored once per scan as contiguous x, y, z, b, gate^2 and 1/gate^2
+// arrays, grouped by direction cell and padded to whole vectors with points that are never
+// inliers, so that scoring a hypothesis is one branch-free loop per cell over 4-wide vectors
+// (GCC vector extensions: one AVX2 register, or two SSE2 registers on the default clone; the
+// same lanes and the same sums in either, so the result does not depend on the machine). No FMA:
+// the residual is rounded exactly as the scalar r = d . v - b of the refit passes, so that the
+// inlier counts (and with them the bail-out decisions) are the same as a scalar loop's.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "robust_fit.hpp"
+
+// The vector helpers below are internal (inlined); their ABI does not matter.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+namespace dorado::odometry::internal {
+namespace {
+
+typedef double Vec4 __attribute__((vector_size(32)));
+typedef long long Mask4 __attribute__((vector_size(32)));
+static_assert(ScoringSet::kLanes == 4, "the kernels below are written for 4 lanes");
+
+inline Vec4 Load(const double *p) {
+    Vec4 v;
+    std::memcpy(&v, p, sizeof v);  // an unaligned vector load
+    return v;
+}
+
+inline double Sum(Vec4 v) {
+    return (v[0] + v[1]) + (v[2] + v[3]);
+}
+
+// Appends one point (or a padding point that no hypothesis can make an inlier: gate^2 < 0).
+void Push(ScoringSet &set, double x, double y, double z, double b, double gate2) {
+    set.x.push_back(x);
+    set.y.push_back(y);
+    set.z.push_back(z);
+    set.b.push_back(b);
+    set.gate2.push_back(gate2);
+    set.inv_gate2.push_back(gate2 > 0.0 ? 1.0 / gate2 : 0.0);
+}
+
+void Pad(ScoringSet &set) {
+    while (set.x.size() % ScoringSet::kLanes != 0) Push(set, 0.0, 0.0, 0.0, 0.0, -1.0);
+}
+
+}  // namespace
+
+void ScoringSet::Build(const DopplerSystem &s, Eigen::Index check_points) {
+    const Eigen::Index m = s.size();
+    for (auto *column : {&x, &y, &z, &b, &gate2, &inv_gate2}) {
+        column->clear();
+        column->reserve(static_cast<std::size_t>(m + check_points) +
+                        static_cast<std::size_t>(kLanes) * (s.num_cells + 1));
+    }
+    alias_span = s.alias_span;
+    // The bail-out sample: the first points of the shuffled subset, in their order.
+    check_points = std::min(check_points, m);
+    for (Eigen::Index i = 0; i < check_points; ++i)
+        Push(*this, s.A(i, 0), s.A(i, 1), s.A(i, 2), s.b[i], s.gate2[i]);
+    Pad(*this);
+    check_end = static_cast<Eigen::Index>(x.size());
+    // Then every point of the subset, grouped by cell (a stable counting sort: the shuffled order
+    // within a cell).
+    cell_begin.assign(static_cast<std::size_t>(s.num_cells) + 1, 0);
+    order.resize(static_cast<std::size_t>(m));
+    std::vector<Eigen::Index> &next = order_next;
+    next.assign(static_cast<std::size_t>(s.num_cells) + 1, 0);
+    for (Eigen::Index i = 0; i < m; ++i) ++next[static_cast<std::size_t>(s.cell[i]) + 1];
+    for (int c = 0; c < s.num_cells; ++c) next[c + 1] += next[c];
+    for (Eigen::Index i = 0; i < m; ++i) order[next[s.cell[i]]++] = i;
+    Eigen::Index k = 0;
+    for (int c = 0; c < s.num_cells; ++c) {
+        cell_begin[c] = static_cast<Eigen::Index>(x.size());
+        for (; k < m && s.cell[order[k]] == c; ++k) {
+            const Eigen::Index i = order[k];
+            Push(*this, s.A(i, 0), s.A(i, 1), s.A(i, 2), s.b[i], s.gate2[i]);
+        }
+        Pad(*this);
+    }
+    cell_begin[s.num_cells] = static_cast<Eigen::Index>(x.size());
+}
+
+__attribute__((target_clones("avx2", "default"))) int CountInliers(const ScoringSet &set,
+                                                                     const double *v) {
+    const Vec4 vx = {v[0], v[0], v[0], v[0]}, vy = {v[1], v[1], v[1], v[1]},
+               vz = {v[2], v[2], v[2], v[2]};
+    Mask4 count = {0, 0, 0, 0};
+    for (Eigen::Index i = 0; i < set.check_end; i += ScoringSet::kLanes) {
+        const Vec4 r = Load(&set.x[i]) * vx + Load(&set.y[i]) * vy + Load(&set.z[i]) * vz -
+                       Load(&set.b[i]);
+        count -= r * r < Load(&set.gate2[i]);  // true is -1
+    }
+    return static_cast<int>(count[0] + count[1] + count[2] + count[3]);
+}
+
+__attribute__((target_clones("avx2", "default"))) int ScoreCells(const ScoringSet &set,
+                                                                   const double *v,
+                                                                   double *cell_quality,
+                                                                   int *cell_count) {
+    const Vec4 vx = {v[0], v[0], v[0], v[0]}, vy = {v[1], v[1], v[1], v[1]},
+               vz = {v[2], v[2], v[2], v[2]}, one = {1.0, 1.0, 1.0, 1.0};
+    const auto cells = static_cast<int>(set.cell_begin.size()) - 1;
+    int total = 0;
+    for (int c = 0; c < cells; ++c) {
+        Vec4 quality = {0.0, 0.0, 0.0, 0.0};
+        Mask4 count = {0, 0, 0, 0};
+        for (Eigen::Index i = set.cell_begin[c]; i < set.cell_begin[c + 1];
+             i += ScoringSet::kLanes) {
+            const Vec4 r = Load(&set.x[i]) * vx + Load(&set.y[i]) * vy + Load(&set.z[i]) * vz -
+                           Load(&set.b[i]);
+            const Vec4 r2 = r * r;
+            const Mask4 inlier = r2 < Load(&set.gate2[i]);
+            // MSAC quality 1 - r^2 / gate^2 of the inliers, 0 for the others.
+            quality += (Vec4)((Mask4)(one - r2 * Load(&set.inv_gate2[i])) & inlier);
+            count -= inlier;
+        }
+        cell_quality[c] = Sum(quality);
+        cell_count[c] = static_cast<int>(count[0] + count[1] + count[2] + count[3]);
+        total += cell_count[c];
+    }
+    return total;
+}
+
+int ScoreCellsAliased(const ScoringSet &set, const double *v, double *cell_quality,
+                      int *cell_count) {
+    const double span = set.alias_span;  // the wrap of each Doppler closest to the hypothesis
+    const auto cells = static_cast<int>(set.cell_begin.size()) - 1;
+    int total = 0;
+    for (int c = 0; c < cells; ++c) {
+        cell_quality[c] = 0.0;
+        cell_count[c] = 0;
+        for (Eigen::Index i = set.cell_begin[c]; i < set.cell_begin[c + 1]; ++i) {
+            double r = set.x[i] * v[0] + set.y[i] * v[1] + set.z[i] * v[2] - set.b[i];
+            r -= span * std::round(r / span);
+            const double r2 = r * r;
+            if (!(r2 < set.gate2[i])) continue;
+            cell_quality[c] += 1.0 - r2 * set.inv_gate2[i];
+            ++cell_count[c];
+        }
+        total += cell_count[c];
+    }
+    return total;
+}
+
+int CountInliersAliased(const ScoringSet &set, const double *v) {
+    const double span = set.alias_span;
+    int count = 0;
+    for (Eigen::Index i = 0; i < set.check_end; ++i) {
+        double r = set.x[i] * v[0] + set.y[i] * v[1] + set.z[i] * v[2] - set.b[i];
+        r -= span * std::round(r / span);
+        count += r * r < set.gate2[i];
+    }
+    return count;
+}
+
+}  // namespace dorado::odometry::internal
