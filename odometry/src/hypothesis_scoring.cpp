@@ -9,29 +9,19 @@
 // inlier counts (and with them the bail-out decisions) are the same as a scalar loop's.
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 #include "robust_fit.hpp"
-
-// The vector helpers below are internal (inlined); their ABI does not matter.
-#pragma GCC diagnostic ignored "-Wpsabi"
+#include "simd4.hpp"
 
 namespace dorado::odometry::internal {
 namespace {
 
-typedef double Vec4 __attribute__((vector_size(32)));
-typedef long long Mask4 __attribute__((vector_size(32)));
-static_assert(ScoringSet::kLanes == 4, "the kernels below are written for 4 lanes");
-
-inline Vec4 Load(const double *p) {
-    Vec4 v;
-    std::memcpy(&v, p, sizeof v);  // an unaligned vector load
-    return v;
-}
-
-inline double Sum(Vec4 v) {
-    return (v[0] + v[1]) + (v[2] + v[3]);
-}
+using simd::Broadcast;
+using simd::Load;
+using simd::Mask4;
+using simd::Sum;
+using simd::Vec4;
+static_assert(ScoringSet::kLanes == simd::kLanes, "one vector per group of points");
 
 // Appends one point (or a padding point that no hypothesis can make an inlier: gate^2 < 0).
 void Push(ScoringSet &set, double x, double y, double z, double b, double gate2) {
@@ -84,25 +74,24 @@ void ScoringSet::Build(const DopplerSystem &s, Eigen::Index check_points) {
     cell_begin[s.num_cells] = static_cast<Eigen::Index>(x.size());
 }
 
-__attribute__((target_clones("avx2", "default"))) int CountInliers(const ScoringSet &set,
+DORADO_SIMD_CLONES int CountInliers(const ScoringSet &set,
                                                                      const double *v) {
-    const Vec4 vx = {v[0], v[0], v[0], v[0]}, vy = {v[1], v[1], v[1], v[1]},
-               vz = {v[2], v[2], v[2], v[2]};
+    const Vec4 vx = Broadcast(v[0]), vy = Broadcast(v[1]), vz = Broadcast(v[2]);
     Mask4 count = {0, 0, 0, 0};
     for (Eigen::Index i = 0; i < set.check_end; i += ScoringSet::kLanes) {
         const Vec4 r = Load(&set.x[i]) * vx + Load(&set.y[i]) * vy + Load(&set.z[i]) * vz -
                        Load(&set.b[i]);
         count -= r * r < Load(&set.gate2[i]);  // true is -1
     }
-    return static_cast<int>(count[0] + count[1] + count[2] + count[3]);
+    return static_cast<int>(Sum(count));
 }
 
-__attribute__((target_clones("avx2", "default"))) int ScoreCells(const ScoringSet &set,
+DORADO_SIMD_CLONES int ScoreCells(const ScoringSet &set,
                                                                    const double *v,
                                                                    double *cell_quality,
                                                                    int *cell_count) {
-    const Vec4 vx = {v[0], v[0], v[0], v[0]}, vy = {v[1], v[1], v[1], v[1]},
-               vz = {v[2], v[2], v[2], v[2]}, one = {1.0, 1.0, 1.0, 1.0};
+    const Vec4 vx = Broadcast(v[0]), vy = Broadcast(v[1]), vz = Broadcast(v[2]),
+               one = Broadcast(1.0);
     const auto cells = static_cast<int>(set.cell_begin.size()) - 1;
     int total = 0;
     for (int c = 0; c < cells; ++c) {
@@ -115,11 +104,11 @@ __attribute__((target_clones("avx2", "default"))) int ScoreCells(const ScoringSe
             const Vec4 r2 = r * r;
             const Mask4 inlier = r2 < Load(&set.gate2[i]);
             // MSAC quality 1 - r^2 / gate^2 of the inliers, 0 for the others.
-            quality += (Vec4)((Mask4)(one - r2 * Load(&set.inv_gate2[i])) & inlier);
+            quality += simd::Select(inlier, one - r2 * Load(&set.inv_gate2[i]));
             count -= inlier;
         }
         cell_quality[c] = Sum(quality);
-        cell_count[c] = static_cast<int>(count[0] + count[1] + count[2] + count[3]);
+        cell_count[c] = static_cast<int>(Sum(count));
         total += cell_count[c];
     }
     return total;
