@@ -23,55 +23,50 @@ using simd::Sum;
 using simd::Vec4;
 static_assert(ScoringSet::kLanes == simd::kLanes, "one vector per group of points");
 
-// Appends one point (or a padding point that no hypothesis can make an inlier: gate^2 < 0).
-void Push(ScoringSet &set, double x, double y, double z, double b, double gate2) {
-    set.x.push_back(x);
-    set.y.push_back(y);
-    set.z.push_back(z);
-    set.b.push_back(b);
-    set.gate2.push_back(gate2);
-    set.inv_gate2.push_back(gate2 > 0.0 ? 1.0 / gate2 : 0.0);
+// Writes point `from` of s at row k, or a padding point that no hypothesis can make an inlier
+// (gate^2 < 0) when from < 0.
+void Put(ScoringSet &set, std::size_t k, const DopplerSystem &s, Eigen::Index from) {
+    const bool pad = from < 0;
+    set.x[k] = pad ? 0.0 : s.A(from, 0);
+    set.y[k] = pad ? 0.0 : s.A(from, 1);
+    set.z[k] = pad ? 0.0 : s.A(from, 2);
+    set.b[k] = pad ? 0.0 : s.b[from];
+    set.gate2[k] = pad ? -1.0 : s.gate2[from];
+    set.inv_gate2[k] = pad ? 0.0 : 1.0 / s.gate2[from];
 }
 
-void Pad(ScoringSet &set) {
-    while (set.x.size() % ScoringSet::kLanes != 0) Push(set, 0.0, 0.0, 0.0, 0.0, -1.0);
+Eigen::Index RoundUp(Eigen::Index n) {
+    return (n + ScoringSet::kLanes - 1) / ScoringSet::kLanes * ScoringSet::kLanes;
 }
 
 }  // namespace
 
 void ScoringSet::Build(const DopplerSystem &s, Eigen::Index check_points) {
     const Eigen::Index m = s.size();
-    for (auto *column : {&x, &y, &z, &b, &gate2, &inv_gate2}) {
-        column->clear();
-        column->reserve(static_cast<std::size_t>(m + check_points) +
-                        static_cast<std::size_t>(kLanes) * (s.num_cells + 1));
-    }
-    alias_span = s.alias_span;
-    // The bail-out sample: the first points of the shuffled subset, in their order.
     check_points = std::min(check_points, m);
-    for (Eigen::Index i = 0; i < check_points; ++i)
-        Push(*this, s.A(i, 0), s.A(i, 1), s.A(i, 2), s.b[i], s.gate2[i]);
-    Pad(*this);
-    check_end = static_cast<Eigen::Index>(x.size());
-    // Then every point of the subset, grouped by cell (a stable counting sort: the shuffled order
-    // within a cell).
-    cell_begin.assign(static_cast<std::size_t>(s.num_cells) + 1, 0);
-    order.resize(static_cast<std::size_t>(m));
-    std::vector<Eigen::Index> &next = order_next;
-    next.assign(static_cast<std::size_t>(s.num_cells) + 1, 0);
-    for (Eigen::Index i = 0; i < m; ++i) ++next[static_cast<std::size_t>(s.cell[i]) + 1];
-    for (int c = 0; c < s.num_cells; ++c) next[c + 1] += next[c];
-    for (Eigen::Index i = 0; i < m; ++i) order[next[s.cell[i]]++] = i;
-    Eigen::Index k = 0;
-    for (int c = 0; c < s.num_cells; ++c) {
-        cell_begin[c] = static_cast<Eigen::Index>(x.size());
-        for (; k < m && s.cell[order[k]] == c; ++k) {
-            const Eigen::Index i = order[k];
-            Push(*this, s.A(i, 0), s.A(i, 1), s.A(i, 2), s.b[i], s.gate2[i]);
-        }
-        Pad(*this);
-    }
-    cell_begin[s.num_cells] = static_cast<Eigen::Index>(x.size());
+    alias_span = s.alias_span;
+    // Points per cell, hence each part's offset (a stable counting sort: the shuffled order within
+    // a cell).
+    const auto cells = static_cast<std::size_t>(s.num_cells);
+    order_next.assign(cells, 0);
+    for (Eigen::Index i = 0; i < m; ++i) ++order_next[static_cast<std::size_t>(s.cell[i])];
+    cell_begin.resize(cells + 1);
+    check_end = RoundUp(check_points);
+    cell_begin[0] = check_end;
+    for (std::size_t c = 0; c < cells; ++c)
+        cell_begin[c + 1] = cell_begin[c] + RoundUp(order_next[c]);
+    const auto size = static_cast<std::size_t>(cell_begin[cells]);
+    for (auto *column : {&x, &y, &z, &b, &gate2, &inv_gate2}) column->resize(size);
+    // The bail-out sample: the first points of the shuffled subset, in their order.
+    for (Eigen::Index i = 0; i < check_end; ++i)
+        Put(*this, static_cast<std::size_t>(i), s, i < check_points ? i : -1);
+    // Then every point of the subset, grouped by cell, each cell padded.
+    for (std::size_t c = 0; c < cells; ++c) order_next[c] = cell_begin[c];
+    for (Eigen::Index i = 0; i < m; ++i)
+        Put(*this, static_cast<std::size_t>(order_next[s.cell[i]]++), s, i);
+    for (std::size_t c = 0; c < cells; ++c)
+        for (auto k = order_next[c]; k < cell_begin[c + 1]; ++k)
+            Put(*this, static_cast<std::size_t>(k), s, -1);
 }
 
 DORADO_SIMD_CLONES int CountInliers(const ScoringSet &set,

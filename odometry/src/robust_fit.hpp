@@ -52,7 +52,7 @@ struct ScoringSet {
     Eigen::Index check_end = 0;            ///< the bail-out sample is [0, check_end)
     std::vector<Eigen::Index> cell_begin;  ///< cell c is [cell_begin[c], cell_begin[c + 1])
     double alias_span = 0.0;
-    std::vector<Eigen::Index> order, order_next;  ///< Build's counting sort
+    std::vector<Eigen::Index> order_next;  ///< Build's counting sort
 
     /// From the shuffled subset `s` with its cells assigned; the first `check_points` of `s` are
     /// the bail-out sample.
