@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "robust_fit.hpp"
+#include "simd4.hpp"
 
 namespace dorado::odometry {
 namespace {
@@ -61,6 +62,33 @@ void AssignWeightsAndGates(const EgoVelocityConfig &config, const RadarScan &sca
     if (w_max > 0.0) s.w /= w_max;
 }
 
+// The pre-filter's per-point arithmetic for every point, in place: row i of s.A = d_i (or NaNs),
+// b_i = -doppler_i, w_i = power_i, keep_i = 1 where the range, power and finiteness checks pass.
+// A branch-free loop the compiler vectorises (both clones; this file is compiled with
+// -fno-math-errno so that sqrt is the vector instruction); the angle checks are separate.
+DORADO_SIMD_CLONES void DirectionsAndChecks(Eigen::Index N, const double *xyz, const double *doppler,
+                                            const double *power, double min_range,
+                                            double max_range, double min_power, double *dx,
+                                            double *dy, double *dz, double *b, double *w,
+                                            double *keep) {
+    for (Eigen::Index i = 0; i < N; ++i) {
+        const double x = xyz[3 * i], y = xyz[3 * i + 1], z = xyz[3 * i + 2];
+        const double range = std::sqrt(x * x + y * y + z * z);
+        const double p = power[i];
+        // Comparisons are false for NaN: a non-finite coordinate makes range NaN or inf.
+        constexpr double kInf = std::numeric_limits<double>::infinity();
+        const bool ok = (range >= min_range) & (range <= max_range) & (range > 0.0) &
+                        (range < kInf) & (p >= min_power) & (std::abs(p) < kInf) &
+                        (std::abs(doppler[i]) < kInf);
+        keep[i] = ok ? 1.0 : 0.0;
+        dx[i] = x / range;
+        dy[i] = y / range;
+        dz[i] = z / range;
+        b[i] = -doppler[i];  // eq. (1): -doppler_i = d_i . v_radar
+        w[i] = p;
+    }
+}
+
 // Pre-filters every point and builds eq. (1) for those that pass. Labels the rest kFiltered.
 void BuildSystem(const EgoVelocityConfig &config, const RadarScan &scan, internal::Workspace &ws,
                  std::vector<PointLabel> &labels) {
@@ -68,33 +96,39 @@ void BuildSystem(const EgoVelocityConfig &config, const RadarScan &scan, interna
     const bool check_azimuth = config.min_azimuth_deg > -180.0 || config.max_azimuth_deg < 180.0;
     const bool check_elevation =
         config.min_elevation_deg > -90.0 || config.max_elevation_deg < 90.0;
-    const bool has_power_column = scan.power_db.size() == N;
     internal::DopplerSystem &s = ws.system;
     s.Resize(N);
     ws.used_to_input.resize(N);
+    ws.keep.resize(static_cast<std::size_t>(N));
+    // Missing power or Doppler columns: zeros (power) and NaN (Doppler, every point filtered).
+    const double *power = scan.power_db.data(), *doppler = scan.doppler_mps.data();
+    if (scan.power_db.size() != N) power = ws.zeros.setZero(N).data();
+    if (scan.doppler_mps.size() != N) doppler = ws.nans.setConstant(N, NAN).data();
+    DirectionsAndChecks(N, scan.xyz_radar.data(), doppler, power, config.min_range_m,
+                        config.max_range_m, config.min_power_db, s.A.col(0).data(),
+                        s.A.col(1).data(), s.A.col(2).data(), s.b.data(), s.w.data(),
+                        ws.keep.data());
+    // Compaction: row n <= i, so moving rows down in place is safe.
     Eigen::Index n = 0;
     for (Eigen::Index i = 0; i < N; ++i) {
+        if (!(ws.keep[i] > 0.0)) continue;
         const Eigen::Vector3d p = scan.xyz_radar.col(i);
-        const double power = has_power_column ? scan.power_db[i] : 0.0;
-        const double doppler = scan.doppler_mps.size() == N ? scan.doppler_mps[i] : NAN;
-        if (!p.allFinite() || !std::isfinite(doppler) || !std::isfinite(power)) continue;
-        const double range = p.norm();
-        if (range < config.min_range_m || range > config.max_range_m || range <= 0.0) continue;
-        if (power < config.min_power_db) continue;
         if (check_azimuth) {
             const double az = std::atan2(p.y(), p.x());
             if (az < config.min_azimuth_deg * kDegToRad || az > config.max_azimuth_deg * kDegToRad)
                 continue;
         }
         if (check_elevation) {
-            const double el = std::asin(p.z() / range);
+            const double el = std::asin(p.z() / p.norm());
             if (el < config.min_elevation_deg * kDegToRad ||
                 el > config.max_elevation_deg * kDegToRad)
                 continue;
         }
-        s.A.row(n) = p.transpose() / range;  // d_i
-        s.b[n] = -doppler;                   // eq. (1): -doppler_i = d_i . v_radar
-        s.w[n] = power;
+        if (n != i) {
+            s.A.row(n) = s.A.row(i);
+            s.b[n] = s.b[i];
+            s.w[n] = s.w[i];
+        }
         ws.used_to_input[n] = i;
         labels[i] = PointLabel::kDynamic;  // until proven static
         ++n;

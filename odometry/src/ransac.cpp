@@ -70,36 +70,22 @@ void AssignCells(const EgoVelocityConfig &config, DopplerSystem &s, Eigen::Vecto
 
 // Spread-aware MSAC score: each inlier contributes its quality 1 - r^2/gate^2 to its direction
 // cell, and a cell contributes sqrt(its sum). Returns the score; `inliers` gets the count and
-// ws.cell_inliers the inliers per cell.
-// Bail-out (Capel 2005): after the first `check` points of the subset (a random sample, as the
-// subset is shuffled) a hypothesis with fewer than `min_check_inliers` inliers among them is
-// dropped (returns -1) without scoring the rest; check = 0 scores everything.
-double Score(const DopplerSystem &s, const Eigen::Vector3d &v, Workspace &ws, int &inliers,
-             Eigen::Index check = 0, int min_check_inliers = 0) {
-    const Eigen::Index n = s.size();
-    const double *ax = s.A.col(0).data(), *ay = s.A.col(1).data(), *az = s.A.col(2).data();
-    const double *b = s.b.data(), *gate2 = s.gate2.data();
-    const int *cell = s.cell.data();
-    const double span = s.alias_span;  // aliased Doppler: the wrap closest to the hypothesis
-    ws.cell_score.setZero();
-    ws.cell_inliers.setZero();
+// ws.cell_inliers the inliers per cell. Vectorised over ws.scoring (hypothesis_scoring.cpp).
+// Bail-out (Capel 2005): a hypothesis with fewer than `min_check_inliers` inliers among the
+// bail-out sample (the first points of the shuffled subset, a random sample) is dropped (returns
+// -1) without scoring the rest; bail_out = false scores everything.
+double Score(const Eigen::Vector3d &v, Workspace &ws, int &inliers, bool bail_out = false,
+             int min_check_inliers = 0) {
+    const ScoringSet &set = ws.scoring;
+    const bool aliased = set.alias_span > 0.0;
     inliers = 0;
-    auto score_range = [&](Eigen::Index begin, Eigen::Index end) {
-        for (Eigen::Index i = begin; i < end; ++i) {
-            double r = ax[i] * v.x() + ay[i] * v.y() + az[i] * v.z() - b[i];
-            if (span > 0.0) r -= span * std::round(r / span);
-            const double r2 = r * r;
-            if (r2 < gate2[i]) {
-                ws.cell_score[cell[i]] += 1.0 - r2 / gate2[i];
-                ++ws.cell_inliers[cell[i]];
-                ++inliers;
-            }
-        }
-    };
-    check = std::min(check, n);
-    score_range(0, check);
-    if (inliers < min_check_inliers) return -1.0;
-    score_range(check, n);
+    if (bail_out && set.check_end > 0) {
+        const int check = aliased ? CountInliersAliased(set, v.data()) : CountInliers(set, v.data());
+        if (check < min_check_inliers) return -1.0;
+    }
+    inliers = aliased
+                  ? ScoreCellsAliased(set, v.data(), ws.cell_score.data(), ws.cell_inliers.data())
+                  : ScoreCells(set, v.data(), ws.cell_score.data(), ws.cell_inliers.data());
     return ws.cell_score.sqrt().sum();
 }
 
@@ -161,6 +147,7 @@ bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, 
     ws.cell_total.setZero(s.num_cells);
     for (Eigen::Index i = 0; i < m; ++i) ++ws.cell_total[s.cell[i]];
     const Eigen::Index check = config.ransac_bailout_points < m ? config.ransac_bailout_points : 0;
+    ws.scoring.Build(s, check);
 
     std::uniform_int_distribution<Eigen::Index> pick(0, m - 1);
     double best_score = -1.0;
@@ -185,7 +172,7 @@ bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, 
         const int min_check = static_cast<int>(config.ransac_bailout_fraction * best_count *
                                                static_cast<double>(check) / static_cast<double>(m));
         int count = 0;
-        double score = Score(s, candidate, ws, count, check, min_check);
+        double score = Score(candidate, ws, count, check > 0, min_check);
         if (score <= best_score) continue;
         // Local optimisation: refit on this hypothesis' inliers of the subset (eq. 2), keep the
         // refit when it scores better. Cheap, and turns the noisy 3-point model into a good one.
@@ -197,7 +184,7 @@ bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, 
             Eigen::Vector3d refit;
             if (!SolveNormalEquations(equations, refit)) break;
             int refit_count = 0;
-            const double refit_score = Score(s, refit, ws, refit_count);
+            const double refit_score = Score(refit, ws, refit_count);
             if (refit_score <= score) break;
             candidate = refit;
             score = refit_score;

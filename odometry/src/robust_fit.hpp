@@ -42,16 +42,46 @@ struct Scratch {
     Eigen::VectorXd residual, mask, weighted;
 };
 
+/// RANSAC's scoring subset as structure-of-arrays (hypothesis_scoring.cpp): first the bail-out
+/// sample (the first points of the shuffled subset, in order), then every point of the subset
+/// grouped by direction cell; each part padded to whole vectors of kLanes with points that no
+/// hypothesis makes inliers (gate2 < 0). Rebuilt per scan into the same buffers.
+struct ScoringSet {
+    static constexpr int kLanes = 4;
+    std::vector<double> x, y, z, b, gate2, inv_gate2;
+    Eigen::Index check_end = 0;            ///< the bail-out sample is [0, check_end)
+    std::vector<Eigen::Index> cell_begin;  ///< cell c is [cell_begin[c], cell_begin[c + 1])
+    double alias_span = 0.0;
+    std::vector<Eigen::Index> order_next;  ///< Build's counting sort
+
+    /// From the shuffled subset `s` with its cells assigned; the first `check_points` of `s` are
+    /// the bail-out sample.
+    void Build(const DopplerSystem &s, Eigen::Index check_points);
+};
+
+/// Inliers of hypothesis v (3 doubles) in the bail-out sample.
+int CountInliers(const ScoringSet &set, const double *v);
+/// Per cell c: the MSAC quality sum of (1 - r^2 / gate^2) over v's inliers in `cell_quality[c]`,
+/// their count in `cell_count[c]`; returns the total count.
+int ScoreCells(const ScoringSet &set, const double *v, double *cell_quality, int *cell_count);
+/// The same two with aliased Doppler: each residual wrapped by set.alias_span first (scalar).
+int CountInliersAliased(const ScoringSet &set, const double *v);
+int ScoreCellsAliased(const ScoringSet &set, const double *v, double *cell_quality,
+                      int *cell_count);
+
 /// Buffers reused from scan to scan so that the RANSAC loop never allocates.
 struct Workspace {
     DopplerSystem system;                     ///< all used points
     DopplerSystem subset;                     ///< the random subset RANSAC scores hypotheses on
     std::vector<Eigen::Index> used_to_input;  ///< row of `system` -> index in the scan
+    std::vector<double> keep;  ///< the pre-filter's verdict per scan point (1 = kept)
+    Eigen::VectorXd zeros, nans;              ///< stand-ins for a scan's missing columns
     std::vector<Eigen::Index> shuffle;
     Eigen::VectorXd residual, mask, weighted, sort_buffer;
     Eigen::ArrayXd cell_score;
     Eigen::ArrayXi cell_inliers, cell_total, best_cell_inliers;
     Scratch subset_scratch;  ///< RANSAC's buffers on `subset`
+    ScoringSet scoring;      ///< `subset` laid out for scoring
     /// Normal equations of eq. (2) on `mask`, left by Ransac (its last classification pass).
     NormalEquations mask_equations;
     std::mt19937_64 rng;
