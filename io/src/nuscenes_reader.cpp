@@ -184,12 +184,15 @@ RadarScan DecodeSweep(const std::string &file) {
         } catch (const std::logic_error &) {
             throw DecodeError("field '" + f.name + "': SIZE, COUNT or POINTS is not a number");
         }
+        if (f.size == 0 || f.size > 8 || f.count == 0 || f.count > 65536)
+            throw DecodeError("field '" + f.name + "': SIZE " + std::to_string(f.size) +
+                              " or COUNT " + std::to_string(f.count) + " out of range");
         step += f.size * f.count;
         fields.push_back(f);
     }
     const std::vector<char> bytes((std::istreambuf_iterator<char>(in)),
                                   std::istreambuf_iterator<char>());
-    if (bytes.size() < points * step)
+    if (points > bytes.size() / step)  // step > 0: every field has SIZE and COUNT >= 1
         throw DecodeError("truncated: " + std::to_string(points) + " points of " +
                           std::to_string(step) + " bytes need " + std::to_string(points * step) +
                           " bytes after the header, the file has " + std::to_string(bytes.size()));

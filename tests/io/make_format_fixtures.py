@@ -295,6 +295,16 @@ def nuscenes(shared, out, count, rng):
               sizes=[s for f, s in zip(PCD_FIELDS, PCD_SIZES) if f != "vy"], fields=no_vy)
     add_data("back3", "RADAR_BACK_LEFT", stamp_us(times[3]), path, sample_of(times[3]),
              pose_of(times[3]))
+    # A header whose points * 43 bytes wraps round 64 bits to a few bytes.
+    path = "sweeps/RADAR_BACK_LEFT/huge_points.pcd"
+    write_pcd(os.path.join(out, path), good)
+    data = open(os.path.join(out, path), "rb").read()
+    claimed = b"%d" % (2**64 // 43 + 1)
+    data = data.replace(b"WIDTH %d\n" % len(good), b"WIDTH " + claimed + b"\n", 1)
+    data = data.replace(b"POINTS %d\n" % len(good), b"POINTS " + claimed + b"\n", 1)
+    open(os.path.join(out, path), "wb").write(data)
+    add_data("back4", "RADAR_BACK_LEFT", stamp_us(times[4]), path, sample_of(times[4]),
+             pose_of(times[4]))
     os.makedirs(os.path.join(out, "v1.0-mini"), exist_ok=True)
     for name, records in tables.items():
         with open(os.path.join(out, "v1.0-mini", name + ".json"), "w") as f:

@@ -201,13 +201,14 @@ TEST_F(FormatReaders, NuScenesEgoPosesAreTheReference) {
 
 TEST_F(FormatReaders, NuScenesMalformedSweepsAreSkipsNamingTheFileAndTheField) {
     const auto events = ReadAll(NuScenes("RADAR_BACK_LEFT"));
-    ASSERT_EQ(events.size(), 4u);
+    ASSERT_EQ(events.size(), 5u);
     EXPECT_EQ(events[0].kind, DatasetEvent::Kind::kRadarScan) << events[0].problem;
     const std::pair<const char *, const char *> bad[] = {
         {"truncated.pcd (scan 1): truncated: ", "points of 43 bytes need"},
         {"vx_int16.pcd (scan 2): field 'vx' is I2 x1, expected one float32", ""},
-        {"no_vy.pcd (scan 3): missing field 'vy'", ""}};
-    for (std::size_t k = 1; k < 4; ++k) {
+        {"no_vy.pcd (scan 3): missing field 'vy'", ""},
+        {"huge_points.pcd (scan 4): truncated: 428994048225803526 points of 43 bytes", ""}};
+    for (std::size_t k = 1; k < 5; ++k) {
         EXPECT_EQ(events[k].kind, DatasetEvent::Kind::kBadScan);
         EXPECT_NE(events[k].problem.find(bad[k - 1].first), std::string::npos) << events[k].problem;
         EXPECT_NE(events[k].problem.find(bad[k - 1].second), std::string::npos)
