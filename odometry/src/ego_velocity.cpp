@@ -66,11 +66,11 @@ void AssignWeightsAndGates(const EgoVelocityConfig &config, const RadarScan &sca
 // b_i = -doppler_i, w_i = power_i, keep_i = 1 where the range, power and finiteness checks pass.
 // A branch-free loop the compiler vectorises (both clones; this file is compiled with
 // -fno-math-errno so that sqrt is the vector instruction); the angle checks are separate.
-DORADO_SIMD_CLONES void DirectionsAndChecks(Eigen::Index N, const double *xyz, const double *doppler,
-                                            const double *power, double min_range,
-                                            double max_range, double min_power, double *dx,
-                                            double *dy, double *dz, double *b, double *w,
-                                            double *keep) {
+DORADO_SIMD_CLONES void DirectionsAndChecks(Eigen::Index N, const double *xyz,
+                                            const double *doppler, const double *power,
+                                            double min_range, double max_range, double min_power,
+                                            double *dx, double *dy, double *dz, double *b,
+                                            double *w, double *keep) {
     for (Eigen::Index i = 0; i < N; ++i) {
         const double x = xyz[3 * i], y = xyz[3 * i + 1], z = xyz[3 * i + 2];
         const double range = std::sqrt(x * x + y * y + z * z);

@@ -69,22 +69,19 @@ void ScoringSet::Build(const DopplerSystem &s, Eigen::Index check_points) {
             Put(*this, static_cast<std::size_t>(k), s, -1);
 }
 
-DORADO_SIMD_CLONES int CountInliers(const ScoringSet &set,
-                                                                     const double *v) {
+DORADO_SIMD_CLONES int CountInliers(const ScoringSet &set, const double *v) {
     const Vec4 vx = Broadcast(v[0]), vy = Broadcast(v[1]), vz = Broadcast(v[2]);
     Mask4 count = {0, 0, 0, 0};
     for (Eigen::Index i = 0; i < set.check_end; i += ScoringSet::kLanes) {
-        const Vec4 r = Load(&set.x[i]) * vx + Load(&set.y[i]) * vy + Load(&set.z[i]) * vz -
-                       Load(&set.b[i]);
+        const Vec4 r =
+            Load(&set.x[i]) * vx + Load(&set.y[i]) * vy + Load(&set.z[i]) * vz - Load(&set.b[i]);
         count -= r * r < Load(&set.gate2[i]);  // true is -1
     }
     return static_cast<int>(Sum(count));
 }
 
-DORADO_SIMD_CLONES int ScoreCells(const ScoringSet &set,
-                                                                   const double *v,
-                                                                   double *cell_quality,
-                                                                   int *cell_count) {
+DORADO_SIMD_CLONES int ScoreCells(const ScoringSet &set, const double *v, double *cell_quality,
+                                  int *cell_count) {
     const Vec4 vx = Broadcast(v[0]), vy = Broadcast(v[1]), vz = Broadcast(v[2]),
                one = Broadcast(1.0);
     const auto cells = static_cast<int>(set.cell_begin.size()) - 1;

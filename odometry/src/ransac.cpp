@@ -80,7 +80,8 @@ double Score(const Eigen::Vector3d &v, Workspace &ws, int &inliers, bool bail_ou
     const bool aliased = set.alias_span > 0.0;
     inliers = 0;
     if (bail_out && set.check_end > 0) {
-        const int check = aliased ? CountInliersAliased(set, v.data()) : CountInliers(set, v.data());
+        const int check =
+            aliased ? CountInliersAliased(set, v.data()) : CountInliers(set, v.data());
         if (check < min_check_inliers) return -1.0;
     }
     inliers = aliased

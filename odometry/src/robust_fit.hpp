@@ -74,8 +74,8 @@ struct Workspace {
     DopplerSystem system;                     ///< all used points
     DopplerSystem subset;                     ///< the random subset RANSAC scores hypotheses on
     std::vector<Eigen::Index> used_to_input;  ///< row of `system` -> index in the scan
-    std::vector<double> keep;  ///< the pre-filter's verdict per scan point (1 = kept)
-    Eigen::VectorXd zeros, nans;              ///< stand-ins for a scan's missing columns
+    std::vector<double> keep;     ///< the pre-filter's verdict per scan point (1 = kept)
+    Eigen::VectorXd zeros, nans;  ///< stand-ins for a scan's missing columns
     std::vector<Eigen::Index> shuffle;
     Eigen::VectorXd residual, mask, weighted, sort_buffer;
     Eigen::ArrayXd cell_score;

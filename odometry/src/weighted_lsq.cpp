@@ -147,7 +147,8 @@ DORADO_SIMD_CLONES int ClassifyAndAccumulateKernel(Eigen::Index n, const PointCo
     Vec4Sums sums;
     Eigen::Index i = 0;
     for (; i + simd::kLanes <= n; i += simd::kLanes) {
-        const Vec4 x = simd::Load(p.x + i), y = simd::Load(p.y + i), z = simd::Load(p.z + i), bi = simd::Load(p.b + i);
+        const Vec4 x = simd::Load(p.x + i), y = simd::Load(p.y + i), z = simd::Load(p.z + i),
+                   bi = simd::Load(p.b + i);
         const Vec4 ri = x * vx + y * vy + z * vz - bi;
         const Mask4 inlier = ri * ri < simd::Load(p.gate2 + i);
         const Vec4 c = simd::Select(inlier, simd::Load(p.w + i));

@@ -34,6 +34,9 @@ struct CrowdOptions {
     double azimuth_half_fov_deg = 60.0;
     double elevation_half_fov_deg = 20.0;
     double sensor_height_m = 1.6;
+    /// Fraction of the points on the movers; < 0: drawn in [0.25, 0.40] (the random stream is the
+    /// same either way).
+    double mover_fraction = -1.0;
 };
 
 namespace detail {
@@ -59,8 +62,9 @@ inline CrowdScene MakeCrowdScan(const CrowdOptions &o) {
     auto uni = [&](double lo, double hi) { return lo + (hi - lo) * u01(rng); };
     CrowdScene out;
     out.v_radar = Eigen::Vector3d(uni(3.0, 15.0), uni(-0.5, 0.5), uni(-0.3, 0.3));
-    const double mover_fraction = uni(0.25, 0.40), clutter_fraction = uni(0.04, 0.08),
+    const double drawn_mover_fraction = uni(0.25, 0.40), clutter_fraction = uni(0.04, 0.08),
                  ghost_fraction = uni(0.03, 0.06);
+    const double mover_fraction = o.mover_fraction >= 0.0 ? o.mover_fraction : drawn_mover_fraction;
     // 3-6 coherent movers: oncoming and same-direction traffic, one large (a bus or a truck).
     std::vector<detail::Mover> movers(3 + static_cast<int>(u01(rng) * 4));
     double share_sum = 0.0;
