@@ -55,7 +55,7 @@ void RunMap(const MapOptions &opt) {
     const std::size_t expected = CountRadarMessages(dataset, needs_imu, "--prior " + opt.prior);
     auto reader = io::OpenDataset(dataset);
     Progress progress("map", expected);
-    MapOutputs outputs(map_config.output_voxel_m);
+    MapOutputs outputs;
     ScanLoop loop(front_end);
     StreamGuard guard;  // Ctrl-C or a reader error mid-stream: stop, write what was done
     loop.Run(*reader, guard, progress,

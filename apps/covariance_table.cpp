@@ -53,7 +53,7 @@ CovarianceTable::CovarianceTable() : csv_(Header()) {}
 void CovarianceTable::Add(const frontend::FrontEndResult &result) {
     const mapping::RegistrationResult &r = result.registration;
     const char *status = r.first_scan         ? "first_scan"
-                         : r.fallback         ? "fallback"
+                         : r.fallback()       ? "fallback"
                          : r.registered.valid ? "fused"
                                               : "unrefined";
     char t[32];

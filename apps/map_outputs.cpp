@@ -23,9 +23,11 @@ std::string Quoted(const std::string &text) {
     return out + "\"";
 }
 
-// "bad fitness (rms 1.7 m)" -> "bad fitness": the reason's kind, for the counts.
-std::string Kind(const std::string &reason) {
-    return reason.substr(0, reason.find(" ("));
+// "bad fitness (rms 1.7 m)": the cause and its numbers, for scans.csv.
+std::string Reason(const mapping::RegistrationResult &r) {
+    std::string reason = mapping::ToString(r.fallback_cause);
+    if (!r.fallback_detail.empty()) reason += " (" + r.fallback_detail + ")";
+    return reason;
 }
 
 }  // namespace
@@ -41,18 +43,31 @@ nlohmann::json TimeStatistics(std::vector<double> values_ms) {
     return {{"mean", mean}, {"median", values_ms[values_ms.size() / 2]}, {"p95", at(0.95)}};
 }
 
-MapOutputs::MapOutputs(double output_voxel_m) : map_(output_voxel_m), csv_(kCsvHeader) {}
+MapOutputs::MapOutputs() : csv_(kCsvHeader) {}
+
+Eigen::Matrix3Xd MapOutputs::MapPoints() const {
+    Eigen::Matrix3Xd points(3, static_cast<Eigen::Index>(map_points_world_.size()));
+    for (std::size_t i = 0; i < map_points_world_.size(); ++i)
+        points.col(static_cast<Eigen::Index>(i)) = map_points_world_[i];
+    return points;
+}
 
 void MapOutputs::Add(const frontend::FrontEndResult &result) {
     const mapping::RegistrationResult &r = result.registration;
     const frontend::FrontEndTimes &t = result.times;
-    map_.Add(result.static_points_world);
+    const Eigen::Matrix3Xd &added = r.map_points_added_world;
+    for (Eigen::Index i = 0; i < added.cols(); ++i) map_points_world_.push_back(added.col(i));
     covariances_.Add(result);
     positions_.push_back(result.T_world_base.translation());
-    if (r.fallback) {
+    if (first_stamp_ns_ < 0) first_stamp_ns_ = result.stamp_ns;
+    if (r.fallback()) {
         ++fallbacks_;
-        fallback_reasons_[Kind(r.fallback_reason)]++;
+        fallback_reasons_[mapping::ToString(r.fallback_cause)]++;
+        // The young map (its first seconds) apart: a small map registers worse.
+        if (NanosToSeconds(result.stamp_ns - first_stamp_ns_) < kYoungMapS)
+            young_map_fallback_reasons_[mapping::ToString(r.fallback_cause)]++;
     }
+    ++scans_;
     if (!result.prior_substitution.empty()) prior_substitutions_[result.prior_substitution]++;
     if (result.static_mask.size() == 0) ++unmasked_;
     const std::pair<const char *, double> stages[] = {{"doppler", t.doppler_ms},
@@ -67,8 +82,8 @@ void MapOutputs::Add(const frontend::FrontEndResult &result) {
     std::snprintf(row, sizeof(row), "%.9f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%d,%.5f,%d,",
                   NanosToSeconds(result.stamp_ns), t.doppler_ms, t.prior_ms, t.mapper.preprocess_ms,
                   t.mapper.registration_ms, t.mapper.refinement_ms, t.mapper.map_update_ms,
-                  t.total_ms, r.correspondences, r.fitness_rms_m, r.fallback ? 1 : 0);
-    csv_ += row + Quoted(r.fallback_reason) + ',' +
+                  t.total_ms, r.correspondences, r.fitness_rms_m, r.fallback() ? 1 : 0);
+    csv_ += row + Quoted(Reason(r)) + ',' +
             (result.prior_first_scan ? "first scan" : mapping::ToString(result.prior_used)) + ',' +
             Quoted(result.prior_substitution) + ',' + std::to_string(r.local_map_points) + '\n';
     max_local_map_points_ = std::max(max_local_map_points_, r.local_map_points);
@@ -76,7 +91,7 @@ void MapOutputs::Add(const frontend::FrontEndResult &result) {
 
 void MapOutputs::Write(const std::string &out_dir, const Trajectory &trajectory) const {
     io::WriteTum(out_dir + "/trajectory.tum", trajectory);
-    const Eigen::Matrix3Xd points = map_.Points();
+    const Eigen::Matrix3Xd points = MapPoints();
     io::WritePcd(out_dir + "/map.pcd", points);
     io::WritePly(out_dir + "/map.ply", points);
     WriteBirdsEyeImage(out_dir + "/map.png", points, positions_);
@@ -92,13 +107,15 @@ nlohmann::json MapOutputs::Summary() const {
     }
     const auto total = stage_ms_.find("total");
     return {{"fallbacks", fallbacks_},
+            {"fallback_rate", scans_ > 0 ? static_cast<double>(fallbacks_) / scans_ : 0.0},
             {"fallback_reasons", fallback_reasons_},
+            {"fallback_reasons_first_5s", young_map_fallback_reasons_},
             {"prior_substitutions_constvel", prior_substitutions_},
             {"scans_without_mask", unmasked_},
             {"time_per_scan_ms",
              TimeStatistics(total == stage_ms_.end() ? std::vector<double>{} : total->second)},
             {"time_per_stage_ms", stages},
-            {"map_points", map_.size()},
+            {"map_points", map_points_world_.size()},
             {"local_map_points_max", max_local_map_points_}};
 }
 

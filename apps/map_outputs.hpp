@@ -1,9 +1,10 @@
 #pragma once
 /// @file map_outputs.hpp
 /// What `dorado map` writes: scans.csv (per scan: time per stage, prior, registration, local map
-/// size), the output map (map.pcd, map.ply, map.png), trajectory.tum, and the per-run counts for
-/// summary.json.
+/// size), the map (map.pcd, map.ply, map.png: every point the mapper added to its map, where it
+/// placed it), trajectory.tum, and the per-run counts for summary.json.
 
+#include <cstdint>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -11,19 +12,18 @@
 
 #include "covariance_table.hpp"
 #include "dorado/frontend/radar_front_end.hpp"
-#include "dorado/mapping/voxel_cloud.hpp"
 
 namespace dorado::apps {
 
 class MapOutputs {
   public:
-    /// output_voxel_m: the density of the written map (finer than the mapper's own map).
-    explicit MapOutputs(double output_voxel_m);
+    MapOutputs();
 
     /// Records one accepted scan.
     void Add(const frontend::FrontEndResult &result);
 
     /// Writes trajectory.tum, the map files, scans.csv and covariance.csv into out_dir.
+    /// map.pcd holds the points in the order the mapper added them.
     void Write(const std::string &out_dir, const Trajectory &trajectory) const;
 
     /// The counts and timings for summary.json: fallbacks and their reasons, prior
@@ -32,15 +32,19 @@ class MapOutputs {
 
     [[nodiscard]] double mean_time_ms() const;
     [[nodiscard]] int fallbacks() const { return fallbacks_; }
+    /// The map as written: every point the mapper added (world frame).
+    [[nodiscard]] Eigen::Matrix3Xd MapPoints() const;
 
   private:
-    mapping::VoxelCloud map_;
+    std::vector<Eigen::Vector3d> map_points_world_;  ///< the mapper's additions, in order
     std::vector<Eigen::Vector3d> positions_;
     std::string csv_;
     CovarianceTable covariances_;
     std::map<std::string, std::vector<double>> stage_ms_;  ///< by stage name
-    std::map<std::string, int> fallback_reasons_, prior_substitutions_;
-    int fallbacks_ = 0, unmasked_ = 0;
+    static constexpr double kYoungMapS = 5.0;  ///< fallbacks in the map's first seconds, apart
+    std::map<std::string, int> fallback_reasons_, young_map_fallback_reasons_, prior_substitutions_;
+    int fallbacks_ = 0, unmasked_ = 0, scans_ = 0;
+    int64_t first_stamp_ns_ = -1;
     std::size_t max_local_map_points_ = 0;
 };
 

@@ -87,7 +87,7 @@ void BM_MapperPerScan(benchmark::State &state) {
             sum.refinement_ms += r.times.refinement_ms;
             sum.map_update_ms += r.times.map_update_ms;
             sum.total_ms += r.times.total_ms;
-            fallbacks += r.fallback;
+            fallbacks += r.fallback();
             const Eigen::Isometry3d true_step =
                 seq.truth[k - 1].T_world_base.inverse() * seq.truth[k].T_world_base;
             rpe_sum +=

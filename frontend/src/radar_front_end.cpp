@@ -100,8 +100,6 @@ struct RadarFrontEnd::State {
 
     mapping::MotionPrior BuildPrior(const odometry::OdometryStep &step, int64_t stamp_ns,
                                     double dt_s, FrontEndResult &result) const;
-    Eigen::Matrix3Xd StaticPointsWorld(const RadarScan &scan, const mapping::PointMask *mask,
-                                       const Eigen::Isometry3d &T_world_base) const;
 };
 
 mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometryStep &step,
@@ -115,7 +113,7 @@ mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometrySt
         mapping::MotionPrior prior;
         prior.T_world_base = T_world_base_initial;
         prior.covariance = Matrix6d::Identity() * 1e-6;
-        prior.source = "first scan";
+        prior.kind = kind;  // unused: the first scan starts the map
         result.prior_first_scan = true;
         return prior;
     }
@@ -171,23 +169,6 @@ mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometrySt
         built = constvel();
     }
     return *built;
-}
-
-Eigen::Matrix3Xd RadarFrontEnd::State::StaticPointsWorld(
-    const RadarScan &scan, const mapping::PointMask *mask,
-    const Eigen::Isometry3d &T_world_base) const {
-    Eigen::Matrix3Xd p_world(3, scan.size());
-    Eigen::Index n = 0;
-    // Frames: radar in, world out.
-    const Eigen::Isometry3d T_world_radar = T_world_base * extrinsics.T_base_radar;
-    for (Eigen::Index i = 0; i < scan.size(); ++i) {
-        if (mask != nullptr && !(*mask)(i)) continue;
-        const double range = scan.xyz_radar.col(i).norm();
-        if (!(range >= config.mapper.min_range_m && range <= config.mapper.max_range_m)) continue;
-        p_world.col(n++) = T_world_radar * scan.xyz_radar.col(i);
-    }
-    p_world.conservativeResize(3, n);
-    return p_world;
 }
 
 RadarFrontEnd::RadarFrontEnd(FrontEndConfig config, const Extrinsics &extrinsics,
@@ -251,7 +232,6 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
     } else {
         result.T_world_base = step.T_world_base;
     }
-    result.static_points_world = s.StaticPointsWorld(scan_radar, mask, result.T_world_base);
     result.times.total_ms = MillisecondsSince(t_start);
 
     s.trajectory.Append(scan_radar.stamp_ns, result.T_world_base);

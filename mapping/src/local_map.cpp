@@ -288,17 +288,26 @@ LocalMap::~LocalMap() = default;
 LocalMap::LocalMap(LocalMap &&) noexcept = default;
 LocalMap &LocalMap::operator=(LocalMap &&) noexcept = default;
 
-void LocalMap::Update(const Eigen::Matrix3Xd &points_world, const Eigen::Vector3d &position_world) {
+Eigen::Matrix3Xd LocalMap::Update(const Eigen::Matrix3Xd &points_world,
+                                  const Eigen::Vector3d &position_world) {
     Impl &m = *impl_;
     ++m.update_stamp;
+    Eigen::Matrix3Xd added(3, points_world.cols());
+    Eigen::Index n = 0;
     for (Eigen::Index i = 0; i < points_world.cols(); ++i) {
         const Eigen::Vector3d p = points_world.col(i);
-        if (p.allFinite()) m.Insert(p);
+        if (p.allFinite() && m.Insert(p)) added.col(n++) = p;
     }
     m.last_position_world = position_world;
     m.cloud_dirty = true;
     // An unbounded map (max_distance_m infinite) is never cropped: the crop walks every voxel.
     if (std::isfinite(m.config.max_distance_m)) m.Crop(position_world);
+    // A voxel is kept or dropped whole: an added point is in the map iff its voxel still is.
+    Eigen::Index kept = 0;
+    for (Eigen::Index i = 0; i < n; ++i)
+        if (m.voxels.find(m.KeyOf(added.col(i))) != m.voxels.end()) added.col(kept++) = added.col(i);
+    added.conservativeResize(3, kept);
+    return added;
 }
 
 Eigen::Matrix3Xd LocalMap::Points() const {

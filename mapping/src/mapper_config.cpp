@@ -40,6 +40,8 @@ void MapperConfig::Validate() const {
             "must be >= 0");
     Require(registration_floor_sigma_rotation_rad >= 0.0, "registration_floor_sigma_rotation_rad",
             "must be >= 0");
+    Require(registration_weak_ratio >= 0.0 && registration_weak_ratio < 1.0,
+            "registration_weak_ratio", "must be in [0, 1)");
     Require(registration_cluster_m > 0.0 && std::isfinite(registration_cluster_m),
             "registration_cluster_m", "must be > 0");
     if (refinement == Refinement::kWindow) window.Validate();

@@ -77,7 +77,7 @@ MotionPrior PriorFromPreviousPose(const Eigen::Isometry3d &T_world_base_prev,
     return {T_world_base_prev,
             BlockDiagonal(Isotropic(noise.none_sigma_translation_m),
                           Isotropic(noise.none_sigma_rotation_rad)),
-            "none"};
+            PriorKind::kNone};
 }
 
 MotionPrior PriorConstantVelocity(const Eigen::Isometry3d &T_world_base_prevprev,
@@ -93,7 +93,7 @@ MotionPrior PriorConstantVelocity(const Eigen::Isometry3d &T_world_base_prevprev
     return {T_world_base_prev * ExpSE3(xi),
             BlockDiagonal(Isotropic(noise.constvel_sigma_accel_mps2 * dt_s * dt_s),
                           Isotropic(noise.constvel_sigma_angular_accel_radps2 * dt_s * dt_s)),
-            "constvel"};
+            PriorKind::kConstVel};
 }
 
 std::optional<MotionPrior> PriorFromImu(const Eigen::Isometry3d &T_world_base_prev,
@@ -145,7 +145,7 @@ std::optional<MotionPrior> PriorFromImu(const Eigen::Isometry3d &T_world_base_pr
     const double sigma_t =
         noise.imu_velocity_sigma_mps * dt + 0.5 * noise.imu_accel_sigma_mps2 * dt * dt;
     const double sigma_r = noise.imu_gyro_sigma_radps * dt;
-    return MotionPrior{T, BlockDiagonal(Isotropic(sigma_t), Isotropic(sigma_r)), "imu"};
+    return MotionPrior{T, BlockDiagonal(Isotropic(sigma_t), Isotropic(sigma_r)), PriorKind::kImu};
 }
 
 MotionPrior PriorFromDoppler(const Eigen::Isometry3d &T_world_base_prev, const BaseTwist &twist,
@@ -160,7 +160,7 @@ MotionPrior PriorFromDoppler(const Eigen::Isometry3d &T_world_base_prev, const B
                                    .toDenseMatrix();
     // The right Jacobian of ExpSE3 at xi is ~identity for one radar interval; it is neglected.
     return {T_world_base_prev * ExpSE3(xi), BlockDiagonal(cov_v, cov_omega) * (dt_s * dt_s),
-            "doppler"};
+            PriorKind::kDoppler};
 }
 
 std::optional<MotionPrior> PriorFromImuAndDoppler(const Eigen::Isometry3d &T_world_base_prev,
@@ -179,7 +179,7 @@ std::optional<MotionPrior> PriorFromImuAndDoppler(const Eigen::Isometry3d &T_wor
     const Eigen::Matrix3d cov_v = twist.cov_v_base + Isotropic(noise.doppler_min_sigma_v_mps);
     return MotionPrior{T_world_base_prev * ExpSE3(xi),
                        BlockDiagonal(cov_v, Isotropic(noise.imu_gyro_sigma_radps)) * (dt_s * dt_s),
-                       "imu+doppler"};
+                       PriorKind::kImuDoppler};
 }
 
 double PriorMahalanobisSquared(const MotionPrior &prior, const Eigen::Isometry3d &T_world_base) {

@@ -45,6 +45,28 @@ int64_t ClusterKey(const Eigen::Vector3d &q_world, double cell_m) {
     return (part(c.x()) << 42) | (part(c.y()) << 21) | part(c.z());
 }
 
+// The projector onto the directions the per-point information H observes: in each of its
+// translation and rotation blocks (metres and radians do not compare), the eigenvectors whose
+// eigenvalue is at least ratio times the block's largest (Zhang et al. ICRA 2016; X-ICP analyses
+// the two blocks apart too). Counts the weak ones.
+Matrix6d StrongProjector(const Matrix6d &H, double ratio, int &weak) {
+    Matrix6d Q = Matrix6d::Zero();
+    weak = 0;
+    for (int block = 0; block < 6; block += 3) {
+        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(H.block<3, 3>(block, block));
+        const double largest = eig.eigenvalues()(2);
+        for (int k = 0; k < 3; ++k) {
+            if (eig.eigenvalues()(k) < ratio * largest) {
+                ++weak;
+                continue;
+            }
+            const Eigen::Vector3d u = eig.eigenvectors().col(k);
+            Q.block<3, 3>(block, block) += u * u.transpose();
+        }
+    }
+    return Q;
+}
+
 Matrix6d FloorCovariance(const MapperConfig &config) {
     Vector6d sigma;
     sigma << Eigen::Vector3d::Constant(config.registration_floor_sigma_translation_m),
@@ -134,7 +156,16 @@ RegisteredPose RegistrationCovariance(const Eigen::Isometry3d &T_world_base,
         }
     }
     out.covariance = model + FloorCovariance(config);
-    out.valid = out.covariance.allFinite();
+    out.information = CovarianceFromInformation(out.covariance);
+    if (config.registration_weak_ratio > 0.0) {
+        out.strong_projector = StrongProjector(H, config.registration_weak_ratio, out.weak_directions);
+        if (out.weak_directions > 0) {
+            out.information = out.strong_projector * out.information * out.strong_projector;
+            out.information = 0.5 * (out.information + out.information.transpose());
+            out.covariance = CovarianceFromInformation(out.information);
+        }
+    }
+    out.valid = out.covariance.allFinite() && out.information.allFinite();
     return out;
 }
 

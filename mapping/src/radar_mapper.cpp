@@ -1,13 +1,17 @@
 #include "dorado/mapping/radar_mapper.hpp"
 
+#include <ceres/loss_function.h>
+
 #include <chrono>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
+#include <tuple>
 
 #include "dorado/mapping/adaptive_threshold.hpp"
 #include "pose_information.hpp"
 #include "registration.hpp"
+#include "robust_loss.hpp"
 
 namespace dorado::mapping {
 
@@ -63,8 +67,31 @@ Eigen::Matrix3Xd ThinColumns(const Eigen::Matrix3Xd &points, int max_count) {
 }
 
 WindowNoise WindowNoiseOf(const MapperConfig &config) {
-    return {config.doppler_sigma_mps, static_cast<WindowLoss>(config.kernel), config.kernel_scale};
+    return {config.doppler_sigma_mps, config.kernel, config.kernel_scale};
 }
+
+// What Refine computed: the registered pose on the map's chain, the output pose and its
+// covariance, the registration's estimate (valid only when the refinement succeeded) and the last
+// association.
+struct Refined {
+    Eigen::Isometry3d T_map = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
+    Matrix6d covariance = Matrix6d::Zero();
+    RegisteredPose registered;
+    Association association;
+    int doppler_residuals = 0;
+};
+
+// What RegisterToMap computed: the checks (cause kNone: trusted) and their numbers, then the
+// refinement of a trusted registration.
+struct MapRegistration {
+    FallbackCause cause = FallbackCause::kNone;
+    std::string detail;
+    Association association;  ///< at PCL's pose (the window smoother's matches)
+    double prior_mahalanobis_squared = 0.0;
+    Refined refined;  ///< when trusted
+    double alignment_ms = 0.0, registration_ms = 0.0, refinement_ms = 0.0;
+};
 
 }  // namespace
 
@@ -81,8 +108,7 @@ struct RadarMapper::State {
     Eigen::Isometry3d T_map_base_last = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d T_world_base_last_keyframe = Eigen::Isometry3d::Identity();
     int fallbacks = 0;
-    std::optional<WindowSmoother> window;        ///< refinement = kWindow
-    std::vector<Correspondence> window_matches;  ///< of the scan being registered
+    std::optional<WindowSmoother> window;  ///< refinement = kWindow
 
     State(const MapperConfig &c, const Extrinsics &e, const VehicleGeometry &g)
         : config(c),
@@ -99,18 +125,21 @@ struct RadarMapper::State {
                RotationAngle(delta.linear()) * 180.0 / M_PI >= config.keyframe_angle_deg;
     }
 
-    void RegisterToMap(const Eigen::Matrix3Xd &source_base,
-                       const std::vector<DopplerObservation> &doppler, const MotionPrior &prior_map,
-                       const MotionPrior &prior, double dt_s, RegistrationResult &result,
-                       Eigen::Isometry3d &T_map);
-    void Refine(const Eigen::Matrix3Xd &source_base,
-                const std::vector<DopplerObservation> &doppler_all, const MotionPrior &prior_map,
-                const MotionPrior &prior, double dt_s, Association association,
-                RegistrationResult &result, Eigen::Isometry3d &T_map) const;
-    Eigen::Isometry3d SmoothWindow(const std::vector<DopplerObservation> &doppler,
-                                   const MotionPrior &prior, double dt_s,
-                                   const Eigen::Vector3d *gyro_base_radps,
-                                   const RegistrationResult &result);
+    [[nodiscard]] MapRegistration RegisterToMap(const Eigen::Matrix3Xd &source_base,
+                                                const std::vector<DopplerObservation> &doppler,
+                                                const MotionPrior &prior_map,
+                                                const MotionPrior &prior, double dt_s,
+                                                double threshold_m);
+    [[nodiscard]] Refined Refine(const Eigen::Matrix3Xd &source_base,
+                                 const std::vector<DopplerObservation> &doppler_all,
+                                 const MotionPrior &prior_map, const MotionPrior &prior,
+                                 double dt_s, double threshold_m, const Association &association,
+                                 const Eigen::Isometry3d &T_aligned) const;
+    [[nodiscard]] Eigen::Isometry3d SmoothWindow(const std::vector<DopplerObservation> &doppler,
+                                                 const std::vector<Correspondence> &matches,
+                                                 const MotionPrior &prior, double dt_s,
+                                                 const Eigen::Vector3d *gyro_base_radps,
+                                                 const Eigen::Isometry3d &T_world_base_initial);
 };
 
 RadarMapper::RadarMapper(const MapperConfig &config, const Extrinsics &extrinsics,
@@ -132,6 +161,26 @@ int RadarMapper::fallbacks() const {
     return state_->fallbacks;
 }
 
+const char *ToString(FallbackCause cause) {
+    switch (cause) {
+        case FallbackCause::kNone:
+            return "";
+        case FallbackCause::kTooFewPoints:
+            return "too few points";
+        case FallbackCause::kNotConverged:
+            return "registration did not converge";
+        case FallbackCause::kTooFewCorrespondences:
+            return "too few correspondences";
+        case FallbackCause::kBadFitness:
+            return "bad fitness";
+        case FallbackCause::kDegenerate:
+            return "degenerate geometry";
+        case FallbackCause::kJump:
+            return "jump outside the prior";
+    }
+    return "?";
+}
+
 namespace {
 
 // The jump test's prior: the prior's uncertainty plus the registration's own noise.
@@ -145,63 +194,98 @@ MotionPrior WidenedPrior(const MotionPrior &prior, const MapperConfig &config) {
     return widened;
 }
 
-// Why a registration is not trusted (empty when it is): convergence, support, fitness,
-// observability and the jump test, in that order.
-std::string CheckRegistration(const PclAlignment &aligned, const Association &association,
-                              const RegistrationResult &result, const MapperConfig &config) {
-    if (!aligned.converged) return "registration did not converge";
+// The jump test on the innovation: xi = Log(prior^-1 T) under C_prior + C_registration, the
+// registration's covariance from its matches at T (a singular or failed one: the widened prior's
+// test's registration sigmas stand in).
+double InnovationMahalanobisSquared(const MotionPrior &prior, const Eigen::Isometry3d &T_world_base,
+                                    const Association &association, const MapperConfig &config) {
+    const auto loss = MakeLoss(config.kernel, config.kernel_scale);
+    const RegisteredPose registration =
+        RegistrationCovariance(T_world_base, association.matches, loss.get(), config);
+    if (!registration.valid)
+        return PriorMahalanobisSquared(WidenedPrior(prior, config), T_world_base);
+    MotionPrior innovation = prior;
+    innovation.covariance += registration.covariance;
+    return PriorMahalanobisSquared(innovation, T_world_base);
+}
+
+// Why a registration is not trusted (kNone when it is), with the numbers: convergence, support,
+// fitness, observability and the jump test, in that order.
+std::pair<FallbackCause, std::string> CheckRegistration(const PclAlignment &aligned,
+                                                        const Association &association,
+                                                        double prior_mahalanobis_squared,
+                                                        const MapperConfig &config) {
+    if (!aligned.converged) return {FallbackCause::kNotConverged, ""};
     if (association.count < config.min_correspondences)
-        return "too few correspondences (" + std::to_string(association.count) + ")";
+        return {FallbackCause::kTooFewCorrespondences, std::to_string(association.count)};
     if (association.rms_m > config.max_rms_m)
-        return "bad fitness (rms " + std::to_string(association.rms_m) + " m)";
+        return {FallbackCause::kBadFitness, "rms " + std::to_string(association.rms_m) + " m"};
     if (association.observability < config.min_observability)
-        return "degenerate geometry (observability " + std::to_string(association.observability) +
-               ")";
-    if (result.prior_mahalanobis_squared > config.max_prior_mahalanobis_squared)
-        return "jump outside the prior (Mahalanobis^2 " +
-               std::to_string(result.prior_mahalanobis_squared) + ")";
-    return "";
+        return {FallbackCause::kDegenerate,
+                "observability " + std::to_string(association.observability)};
+    if (prior_mahalanobis_squared > config.max_prior_mahalanobis_squared)
+        return {FallbackCause::kJump,
+                "Mahalanobis^2 " + std::to_string(prior_mahalanobis_squared)};
+    return {FallbackCause::kNone, ""};
 }
 
 }  // namespace
 
-// Doppler-aware refinement (Ceres), re-associating refine_outer_iterations times from T_map (the
-// registered pose, updated): with ceres, the registered pose and the output fused from it
-// (RefinePose); with none and window, the registration alone gives the covariance. The Doppler
-// residuals join only when the prior was not built from the same Doppler velocity (counted once).
-void RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
-                                const std::vector<DopplerObservation> &doppler_all,
-                                const MotionPrior &prior_map, const MotionPrior &prior, double dt_s,
-                                Association association, RegistrationResult &result,
-                                Eigen::Isometry3d &T_map) const {
+// Doppler-aware refinement (Ceres), re-associating refine_outer_iterations times from the
+// registered pose: with ceres, the registered pose and the output fused from it (RefinePose); with
+// none and window, the registration alone gives the covariance (the output stays PCL's pose). The
+// Doppler residuals join only when the prior was not built from the same Doppler velocity (counted
+// once). A refinement that fails leaves the pose where it was and `registered` not valid.
+Refined RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
+                                   const std::vector<DopplerObservation> &doppler_all,
+                                   const MotionPrior &prior_map, const MotionPrior &prior,
+                                   double dt_s, double threshold_m,
+                                   const Association &association,
+                                   const Eigen::Isometry3d &T_aligned) const {
+    const bool ceres = config.refinement == Refinement::kCeres;
+    Refined out;
+    out.T_map = T_aligned;
+    out.T_world_base = ceres ? prior.T_world_base : T_aligned;
+    out.covariance = prior.covariance;
+    out.association = association;
     const std::vector<DopplerObservation> doppler =
-        (config.use_doppler && has_pose && !CarriesDoppler(prior))
+        (config.use_doppler && has_pose && !NeedsDoppler(prior.kind))
             ? Thin(doppler_all, config.max_doppler_residuals)
             : std::vector<DopplerObservation>{};
-    result.doppler_residuals = static_cast<int>(doppler.size());
+    const std::vector<DopplerObservation> doppler_registration =
+        (config.use_doppler && has_pose && config.doppler_in_registration)
+            ? Thin(doppler_all, config.max_doppler_residuals)
+            : doppler;
+    out.doppler_residuals = static_cast<int>(doppler_registration.size());
     for (int outer = 0; outer < config.refine_outer_iterations; ++outer) {
         if (outer > 0)
-            association = Associate(source_base, T_map, map, config, result.threshold_m,
-                                    config.max_registration_residuals);
-        if (association.count < config.min_correspondences) break;
-        const RefinementInput input{T_map,    &prior_map,      &association.matches,
-                                    &doppler, T_map_base_last, extrinsics.T_base_radar,
-                                    dt_s,     &prior,          T_world_base_last};
-        const bool ceres = config.refinement == Refinement::kCeres;
+            out.association = Associate(source_base, out.T_map, map, config, threshold_m,
+                                        config.max_registration_residuals);
+        if (out.association.count < config.min_correspondences) break;
+        RefinementInput input;
+        input.T_world_base_initial = out.T_map;
+        input.prior = &prior_map;
+        input.matches = &out.association.matches;
+        input.doppler = &doppler;
+        input.doppler_registration = &doppler_registration;
+        input.T_world_base_prev = T_map_base_last;
+        input.T_base_radar = extrinsics.T_base_radar;
+        input.dt_s = dt_s;
+        input.prior_output = &prior;
+        input.T_world_base_prev_output = T_world_base_last;
         const RefinementOutput refined =
             ceres ? RefinePose(input, config) : RegisterAlone(input, config);
-        result.registered = refined.registered;
         if (!refined.usable) break;
+        out.registered = refined.registered;
         if (ceres) {
-            T_map = refined.registered.T_world_base;
-            result.T_world_base = refined.T_world_base;
-            result.covariance = refined.covariance;
+            out.T_map = refined.registered.T_world_base;
+            out.T_world_base = refined.T_world_base;
+            out.covariance = refined.covariance;
         } else {  // none: PCL's pose; the window smoother's covariance is set after it
-            result.covariance = refined.registered.covariance;
+            out.covariance = refined.registered.covariance;
         }
     }
-    result.correspondences = association.count;
-    result.fitness_rms_m = association.rms_m;
+    return out;
 }
 
 // The window smoother's step: the scan's matches (none on a fallback), its static points' Doppler
@@ -210,62 +294,54 @@ void RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
 // model and the WNOA prior carry the information it was built from (the odometry's twist comes
 // from the same Doppler points), so adding it would count them twice. Returns the newest pose.
 Eigen::Isometry3d RadarMapper::State::SmoothWindow(const std::vector<DopplerObservation> &doppler,
+                                                   const std::vector<Correspondence> &matches,
                                                    const MotionPrior &prior, double dt_s,
                                                    const Eigen::Vector3d *gyro_base_radps,
-                                                   const RegistrationResult &result) {
+                                                   const Eigen::Isometry3d &T_world_base_initial) {
     WindowScan scan;
     scan.dt_s = dt_s;
-    scan.T_world_base_initial = result.T_world_base;
+    scan.T_world_base_initial = T_world_base_initial;
     if (has_pose) {
         const Vector6d xi = LogSE3(T_world_base_last.inverse() * prior.T_world_base) / dt_s;
         scan.v_base_initial = xi.head<3>();
         scan.omega_base_initial = xi.tail<3>();
     }
-    scan.matches.reserve(window_matches.size());
-    for (const Correspondence &m : window_matches)
-        scan.matches.push_back({m.p_base, m.q_world, m.sqrt_information});
-    if (config.use_doppler)
-        for (const DopplerObservation &d : Thin(doppler, config.max_doppler_residuals))
-            scan.doppler.push_back({d.d_radar, d.doppler_mps});
+    scan.matches = matches;
+    if (config.use_doppler) scan.doppler = Thin(doppler, config.max_doppler_residuals);
     if (gyro_base_radps != nullptr && gyro_base_radps->allFinite())
         scan.gyro_base_radps = *gyro_base_radps;
     return window->Add(scan).T_world_base;
 }
 
-// Scan-to-map registration from the prior (PCL), its checks, then the refinement. Leaves
-// result.T_world_base at the prior with a fallback reason when registration is not trusted.
-void RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source_base,
-                                       const std::vector<DopplerObservation> &doppler,
-                                       const MotionPrior &prior_map, const MotionPrior &prior,
-                                       double dt_s, RegistrationResult &result,
-                                       Eigen::Isometry3d &T_map) {
+// Scan-to-map registration from the prior (PCL), its checks, then the refinement of a trusted one.
+MapRegistration RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source_base,
+                                                  const std::vector<DopplerObservation> &doppler,
+                                                  const MotionPrior &prior_map,
+                                                  const MotionPrior &prior, double dt_s,
+                                                  double threshold_m) {
+    MapRegistration out;
     const auto t_reg = Clock::now();
     const PclAlignment aligned =
-        AlignWithPcl(source_base, prior_map.T_world_base, map, config, result.threshold_m);
-    result.times.alignment_ms = MillisecondsSince(t_reg);
-    const Association association =
-        Associate(source_base, aligned.T_world_base, map, config, result.threshold_m,
-                  config.max_registration_residuals);
-    result.correspondences = association.count;
-    result.fitness_rms_m = association.rms_m;
-    result.observability = association.observability;
-    result.prior_mahalanobis_squared =
-        PriorMahalanobisSquared(WidenedPrior(prior_map, config), aligned.T_world_base);
-    result.times.registration_ms = MillisecondsSince(t_reg);
+        AlignWithPcl(source_base, prior_map.T_world_base, map, config, threshold_m);
+    out.alignment_ms = MillisecondsSince(t_reg);
+    out.association = Associate(source_base, aligned.T_world_base, map, config, threshold_m,
+                                config.max_registration_residuals);
+    out.prior_mahalanobis_squared =
+        config.jump_gate_innovation
+            ? InnovationMahalanobisSquared(prior_map, aligned.T_world_base, out.association, config)
+            : PriorMahalanobisSquared(WidenedPrior(prior_map, config), aligned.T_world_base);
+    out.registration_ms = MillisecondsSince(t_reg);
+    std::tie(out.cause, out.detail) =
+        CheckRegistration(aligned, out.association, out.prior_mahalanobis_squared, config);
+    if (out.cause != FallbackCause::kNone) return out;
 
-    result.fallback_reason = CheckRegistration(aligned, association, result, config);
-    if (!result.fallback_reason.empty()) {
-        result.fallback = true;
-        return;
-    }
-    T_map = aligned.T_world_base;
-    if (config.refinement != Refinement::kCeres) result.T_world_base = aligned.T_world_base;
-    if (config.refinement == Refinement::kWindow) window_matches = association.matches;
     const auto t_refine = Clock::now();
-    Refine(source_base, doppler, prior_map, prior, dt_s, association, result, T_map);
-    result.times.refinement_ms = MillisecondsSince(t_refine);
+    out.refined = Refine(source_base, doppler, prior_map, prior, dt_s, threshold_m,
+                         out.association, aligned.T_world_base);
+    out.refinement_ms = MillisecondsSince(t_refine);
     // kiss-icp: the threshold adapts to how far registration corrected the prior.
-    threshold.Update(prior_map.T_world_base.inverse() * T_map);
+    threshold.Update(prior_map.T_world_base.inverse() * out.refined.T_map);
+    return out;
 }
 
 RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const MotionPrior &prior,
@@ -286,7 +362,6 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
     RegistrationResult result;
     result.T_world_base = prior.T_world_base;
     result.covariance = prior.covariance;  // until a refinement fuses the registration into it
-    s.window_matches.clear();
     result.threshold_m = s.threshold.Threshold();
 
     // 1. Points: range gate, dynamic mask, base frame, voxel downsampling.
@@ -304,23 +379,46 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
         prior_map.T_world_base =
             s.T_map_base_last * s.T_world_base_last.inverse() * prior.T_world_base;
     Eigen::Isometry3d T_map = prior_map.T_world_base;
+    std::vector<Correspondence> window_matches;
     if (s.map.empty()) {
         result.first_scan = true;  // the first scan starts the map at the prior, its origin
         result.covariance.setZero();
     } else if (result.source_points < config.min_correspondences) {
-        result.fallback = true;
-        result.fallback_reason = "too few points (" + std::to_string(result.source_points) + ")";
+        result.fallback_cause = FallbackCause::kTooFewPoints;
+        result.fallback_detail = std::to_string(result.source_points);
     } else {
-        s.RegisterToMap(source_base, points.doppler, prior_map, prior, dt_s, result, T_map);
+        const MapRegistration reg =
+            s.RegisterToMap(source_base, points.doppler, prior_map, prior, dt_s, result.threshold_m);
+        result.fallback_cause = reg.cause;
+        result.fallback_detail = reg.detail;
+        result.observability = reg.association.observability;
+        result.prior_mahalanobis_squared = reg.prior_mahalanobis_squared;
+        result.correspondences = reg.association.count;
+        result.fitness_rms_m = reg.association.rms_m;
+        result.times.alignment_ms = reg.alignment_ms;
+        result.times.registration_ms = reg.registration_ms;
+        result.times.refinement_ms = reg.refinement_ms;
+        if (!result.fallback()) {
+            const Refined &refined = reg.refined;
+            T_map = refined.T_map;
+            result.T_world_base = refined.T_world_base;
+            result.covariance = refined.covariance;
+            result.registered = refined.registered;
+            result.correspondences = refined.association.count;
+            result.fitness_rms_m = refined.association.rms_m;
+            result.doppler_residuals = refined.doppler_residuals;
+            if (s.window) window_matches = reg.association.matches;
+        }
     }
-    if (result.fallback) {
+    if (result.fallback()) {
         result.T_world_base = prior.T_world_base;
         T_map = prior_map.T_world_base;
         ++s.fallbacks;
     }
     if (s.window) {  // every scan enters the window; a fallback one without registration residuals
         const auto t_window = Clock::now();
-        result.T_world_base = s.SmoothWindow(points.doppler, prior, dt_s, gyro_base_radps, result);
+        result.T_world_base = s.SmoothWindow(points.doppler, window_matches, prior, dt_s,
+                                             gyro_base_radps, result.T_world_base);
         result.times.refinement_ms += MillisecondsSince(t_window);
         // The window's marginal is not computed: the prior and the registration fused by their
         // information stand in for it (the window's older scans only tighten it).
@@ -333,9 +431,9 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
 
     // 4. Map update (keyframes only, when configured).
     const auto t_map = Clock::now();
-    if ((!result.fallback || config.update_map_on_fallback) &&
+    if ((!result.fallback() || config.update_map_on_fallback) &&
         (s.map.empty() || s.IsKeyframe(T_map))) {
-        s.map.Update(T_map * points.p_base, T_map.translation());
+        result.map_points_added_world = s.map.Update(T_map * points.p_base, T_map.translation());
         s.T_world_base_last_keyframe = T_map;
         s.map.BuildIndex();  // the kd-tree is part of the map update's cost
         result.map_updated = true;

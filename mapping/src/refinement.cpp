@@ -1,29 +1,17 @@
 // Ceres pose refinement, alone in this TU.
 #include <ceres/ceres.h>
 
+#include <Eigen/Eigenvalues>
 #include <memory>
 
 #include "cost_functions.hpp"
 #include "pose_information.hpp"
 #include "registration.hpp"
+#include "robust_loss.hpp"
 
 namespace dorado::mapping {
 
 namespace {
-
-std::unique_ptr<ceres::LossFunction> MakeLoss(RobustKernel kernel, double scale) {
-    switch (kernel) {
-        case RobustKernel::kNone:
-            return nullptr;
-        case RobustKernel::kHuber:
-            return std::make_unique<ceres::HuberLoss>(scale);
-        case RobustKernel::kCauchy:
-            return std::make_unique<ceres::CauchyLoss>(scale);
-        case RobustKernel::kTukey:
-            return std::make_unique<ceres::TukeyLoss>(scale);
-    }
-    return nullptr;
-}
 
 // A pose as Ceres' parameter blocks: position and unit quaternion (x, y, z, w).
 struct PoseBlocks {
@@ -66,12 +54,13 @@ ceres::Problem::Options ProblemOptions() {
 }
 // The Doppler residuals of the static points, sharing one velocity of the pose since T_prev.
 void AddDoppler(ceres::Problem &problem, const RefinementInput &input,
+                const std::vector<DopplerObservation> *doppler,
                 const Eigen::Isometry3d &T_world_base_prev, const MapperConfig &config,
                 const ceres::LossFunction *loss, PoseBlocks &pose) {
-    if (input.doppler == nullptr || input.doppler->empty()) return;
+    if (doppler == nullptr || doppler->empty()) return;
     const auto velocity =
         std::make_shared<SharedRadarVelocity>(input.T_base_radar, T_world_base_prev, input.dt_s);
-    for (const auto &d : *input.doppler)
+    for (const auto &d : *doppler)
         problem.AddResidualBlock(
             new DopplerError(d.d_radar, d.doppler_mps, velocity, config.doppler_sigma_mps),
             const_cast<ceres::LossFunction *>(loss), pose.t.data(), pose.q.coeffs().data());
@@ -111,11 +100,21 @@ bool RegisterJointly(const RefinementInput &input, const MapperConfig &config,
                      const ceres::LossFunction *loss, PoseBlocks &pose, int &iterations) {
     ceres::Problem problem(ProblemOptions());
     AddRegistration(problem, input, loss, pose);
-    AddDoppler(problem, input, input.T_world_base_prev, config, loss, pose);
+    AddDoppler(problem, input, input.doppler_registration, input.T_world_base_prev, config, loss,
+               pose);
     problem.AddResidualBlock(PriorError::Create(input.prior->T_world_base,
                                                 InverseCholeskyFactor<6>(input.prior->covariance)),
                              nullptr, pose.t.data(), pose.q.coeffs().data());
     return Solve(problem, pose, config, iterations);
+}
+
+// W with W^T W = the registration's information: its covariance's inverse Cholesky factor, or,
+// with weak directions (a singular information), from the eigen-decomposition.
+Matrix6d RegistrationSqrtInformation(const RegisteredPose &registered) {
+    if (registered.weak_directions == 0) return InverseCholeskyFactor<6>(registered.covariance);
+    const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(registered.information);
+    const Vector6d sqrt_eigenvalues = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+    return sqrt_eigenvalues.asDiagonal() * eig.eigenvectors().transpose();
 }
 
 }  // namespace
@@ -129,6 +128,13 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
     if (!RegisterJointly(input, config, loss.get(), registered, out.iterations)) return out;
     out.registered = RegistrationCovariance(registered.Pose(), *input.matches, loss.get(), config);
     if (!out.registered.valid) return out;
+    if (out.registered.weak_directions > 0) {
+        // Solution remapping (Zhang et al. 2016): along the weak directions the registered pose
+        // keeps the prior's value; the correction from the prior is kept across the strong ones.
+        const Eigen::Isometry3d &T_prior = input.prior->T_world_base;
+        const Vector6d xi = LogSE3(T_prior.inverse() * out.registered.T_world_base);
+        out.registered.T_world_base = T_prior * ExpSE3(out.registered.strong_projector * xi);
+    }
 
     // 2. The output: its prior (a Gaussian: no robust loss) fused with the registered pose as one
     //    6-DoF measurement, so that the registration's hundreds of residuals count only as much as
@@ -139,17 +145,19 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
     problem.AddResidualBlock(
         PriorError::Create(prior.T_world_base, InverseCholeskyFactor<6>(prior.covariance)), nullptr,
         pose.t.data(), pose.q.coeffs().data());
-    problem.AddResidualBlock(
-        PriorError::Create(out.registered.T_world_base,
-                           InverseCholeskyFactor<6>(out.registered.covariance)),
-        nullptr, pose.t.data(), pose.q.coeffs().data());
-    AddDoppler(problem, input, input.T_world_base_prev_output, config, loss.get(), pose);
+    problem.AddResidualBlock(PriorError::Create(out.registered.T_world_base,
+                                                RegistrationSqrtInformation(out.registered)),
+                             nullptr, pose.t.data(), pose.q.coeffs().data());
+    AddDoppler(problem, input, input.doppler, input.T_world_base_prev_output, config, loss.get(),
+               pose);
     if (!Solve(problem, pose, config, out.iterations)) return out;
     out.usable = true;
     out.T_world_base = pose.Pose();
     // The output's covariance: the inputs' informations summed (first order at the solution).
     Matrix6d information = CovarianceFromInformation(prior.covariance) +
-                           CovarianceFromInformation(out.registered.covariance);
+                           (out.registered.weak_directions > 0
+                                ? out.registered.information
+                                : CovarianceFromInformation(out.registered.covariance));
     if (input.doppler != nullptr)
         information +=
             DopplerInformation(out.T_world_base, *input.doppler, input.T_world_base_prev_output,

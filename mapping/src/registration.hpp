@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dorado/mapping/local_map.hpp"
+#include "dorado/mapping/measurements.hpp"
 #include "dorado/mapping/motion_prior.hpp"
 #include "dorado/mapping/radar_mapper.hpp"
 
@@ -27,12 +28,6 @@ struct PclAlignment {
                                         const LocalMap &map, const MapperConfig &config,
                                         double threshold_m);
 
-struct Correspondence {
-    Eigen::Vector3d p_base;
-    Eigen::Vector3d q_world;
-    Eigen::Matrix3d sqrt_information;  ///< whitening of the point-to-distribution error
-};
-
 struct Association {
     std::vector<Correspondence> matches;  ///< thinned to at most max_matches
     int count = 0;                        ///< all matches within the threshold
@@ -50,25 +45,24 @@ struct Association {
                                     const MapperConfig &config, double threshold_m,
                                     int max_matches);
 
-struct DopplerObservation {
-    Eigen::Vector3d d_radar;  ///< unit direction to the point, radar frame
-    double doppler_mps;       ///< measured radial velocity, positive = receding
-};
-
+/// What the refinement of one scan starts from, by name (the mapper fills each field).
 struct RefinementInput {
-    Eigen::Isometry3d T_world_base_initial;
+    Eigen::Isometry3d T_world_base_initial = Eigen::Isometry3d::Identity();
     /// The prior on the map's chain of poses (the registered poses the map is built from) and
     /// that chain's previous pose (T_world_base_prev).
     const MotionPrior *prior = nullptr;
     const std::vector<Correspondence> *matches = nullptr;
-    const std::vector<DopplerObservation> *doppler = nullptr;  ///< may be empty
-    Eigen::Isometry3d T_world_base_prev;
-    Eigen::Isometry3d T_base_radar;
-    double dt_s = 0.1;
+    /// The Doppler residuals of the output's step, and of the registered pose's step (usually
+    /// the same; either may be empty).
+    const std::vector<DopplerObservation> *doppler = nullptr;
+    const std::vector<DopplerObservation> *doppler_registration = nullptr;
+    Eigen::Isometry3d T_world_base_prev = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_base_radar = Eigen::Isometry3d::Identity();
+    double dt_s = 0.0;  ///< the interval the Doppler residuals compare the pose's velocity over
     /// The prior on the output's chain (the smooth one: the odometry pulled toward the map) and its
     /// previous pose. RefinePose fuses the registered pose into it.
     const MotionPrior *prior_output = nullptr;
-    Eigen::Isometry3d T_world_base_prev_output;
+    Eigen::Isometry3d T_world_base_prev_output = Eigen::Isometry3d::Identity();
 };
 
 struct RefinementOutput {

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "cost_functions.hpp"
+#include "robust_loss.hpp"
 #include "window_factors.hpp"
 
 namespace dorado::mapping {
@@ -18,20 +19,6 @@ namespace {
 
 void Require(bool ok, const char *key, const char *what) {
     if (!ok) throw std::invalid_argument(std::string("mapper config: window.") + key + " " + what);
-}
-
-std::unique_ptr<ceres::LossFunction> MakeLoss(WindowLoss loss, double scale) {
-    switch (loss) {
-        case WindowLoss::kNone:
-            return nullptr;
-        case WindowLoss::kHuber:
-            return std::make_unique<ceres::HuberLoss>(scale);
-        case WindowLoss::kCauchy:
-            return std::make_unique<ceres::CauchyLoss>(scale);
-        case WindowLoss::kTukey:
-            return std::make_unique<ceres::TukeyLoss>(scale);
-    }
-    return nullptr;
 }
 
 // One state's parameter blocks and the measurements kept for its factors.
@@ -92,11 +79,11 @@ void WindowSmoother::Impl::Solve() {
     for (std::size_t k = 0; k < slots.size(); ++k) {
         Slot &s = slots[k];
         double *p = s.p.data(), *q = s.q.coeffs().data(), *v = s.v.data(), *w = s.w.data();
-        for (const WindowMatch &m : s.scan.matches)
+        for (const Correspondence &m : s.scan.matches)
             problem.AddResidualBlock(
                 RegistrationError::Create(m.p_base, m.q_world, m.sqrt_information), loss.get(), p,
                 q);
-        for (const WindowDoppler &d : s.scan.doppler)
+        for (const DopplerObservation &d : s.scan.doppler)
             problem.AddResidualBlock(
                 new TwistDopplerError(d.d_radar, d.doppler_mps, extrinsics.T_base_radar,
                                       noise.doppler_sigma_mps),
@@ -150,6 +137,8 @@ void WindowSmoother::Impl::Solve() {
 WindowSmoother::WindowSmoother(const WindowConfig &config, const WindowNoise &noise,
                                const Extrinsics &extrinsics, const VehicleGeometry &geometry) {
     config.Validate();
+    if (!(noise.doppler_sigma_mps > 0.0 && noise.loss_scale > 0.0))
+        throw std::invalid_argument("WindowSmoother: doppler_sigma_mps and loss_scale must be > 0");
     impl_ = std::make_unique<Impl>();
     impl_->config = config;
     impl_->noise = noise;

@@ -24,7 +24,7 @@ TEST(MotionPrior, ConstantVelocityReplaysTheLastMotionScaledByTime) {
     const Eigen::Isometry3d T1 = T0 * ExpSE3(twist * 0.1);
     const MotionPrior prior = PriorConstantVelocity(T0, T1, 0.1, 0.05, PriorNoiseConfig{});
     EXPECT_LT(PoseError(prior.T_world_base, T1 * ExpSE3(twist * 0.05)), 1e-12);
-    EXPECT_EQ(prior.source, "constvel");
+    EXPECT_EQ(prior.kind, PriorKind::kConstVel);
     EXPECT_THROW((void)PriorConstantVelocity(T0, T1, 0.0, 0.1, PriorNoiseConfig{}),
                  std::invalid_argument);
 }

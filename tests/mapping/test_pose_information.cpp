@@ -132,5 +132,43 @@ TEST(PoseInformation, FloorIsAddedAndTooFewMatchesAreInvalid) {
         RegistrationCovariance(Eigen::Isometry3d::Identity(), matches, nullptr, config).valid);
 }
 
+
+// Degeneracy (Zhang et al. 2016): matches on surfaces whose normals are z (ground) and y (a wall
+// along x) say nothing about x (along the track). With registration_weak_ratio the x direction of
+// the translation block is weak: the information along x is zero, across it it is unchanged;
+// without the ratio nothing is weak.
+TEST(PoseInformation, WeakDirectionGetsNoInformation) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-20.0, 20.0);
+    std::vector<Correspondence> matches;
+    for (int i = 0; i < 300; ++i) {
+        const bool wall = i % 3 == 0;
+        const Eigen::Vector3d p(u(rng), wall ? 8.0 : u(rng), wall ? 0.1 * u(rng) : 0.0);
+        Eigen::Matrix3d W = Eigen::Matrix3d::Zero();  // point-to-plane: only the normal is measured
+        W(wall ? 1 : 2, wall ? 1 : 2) = 1.0 / 0.1;
+        W += 1e-3 * Eigen::Matrix3d::Identity();  // a thick plane
+        matches.push_back({p, p, W});
+    }
+    MapperConfig config;
+    config.registration_covariance = RegistrationCovarianceModel::kIndependent;
+    const RegisteredPose plain =
+        RegistrationCovariance(Eigen::Isometry3d::Identity(), matches, nullptr, config);
+    ASSERT_TRUE(plain.valid);
+    EXPECT_EQ(plain.weak_directions, 0);
+    config.registration_weak_ratio = 0.01;
+    const RegisteredPose weak =
+        RegistrationCovariance(Eigen::Isometry3d::Identity(), matches, nullptr, config);
+    ASSERT_TRUE(weak.valid);
+    EXPECT_EQ(weak.weak_directions, 1);
+    const Vector6d x = Vector6d::Unit(0), y = Vector6d::Unit(1), z = Vector6d::Unit(2);
+    EXPECT_LT(weak.information.col(0).norm(), 1e-9 * weak.information.norm());
+    EXPECT_GT(weak.covariance(0, 0), 1e6);  // no information: the prior carries x
+    EXPECT_NEAR(y.dot(weak.information * y), y.dot(plain.information * y),
+                1e-6 * y.dot(plain.information * y));
+    EXPECT_NEAR(z.dot(weak.information * z), z.dot(plain.information * z),
+                1e-6 * z.dot(plain.information * z));
+    EXPECT_LT((weak.strong_projector * x).norm(), 1e-9);
+}
+
 }  // namespace
 }  // namespace dorado::mapping

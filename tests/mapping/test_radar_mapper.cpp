@@ -100,7 +100,7 @@ DriveResult Drive(int scans, bool use_mask, Refinement refinement) {
             mapper.Register(scan, prior, 0.1, use_mask ? &is_static : nullptr);
         if (getenv("DEBUG_MAPPER"))
             std::printf("scan %d: fb %d %s corr %d rms %.3f obs %.4f mah %.1f thr %.2f err %.3f\n",
-                        k, r.fallback, r.fallback_reason.c_str(), r.correspondences,
+                        k, r.fallback(), ToString(r.fallback_cause), r.correspondences,
                         r.fitness_rms_m, r.observability, r.prior_mahalanobis_squared,
                         r.threshold_m,
                         (truth[k].T_world_base.inverse() * r.T_world_base).translation().norm());
@@ -206,8 +206,8 @@ TEST(RadarMapper, OneWallFallsBackToThePrior) {
                      Eigen::Vector3d::Zero(), sim, rng, nullptr);
     prior.T_world_base = Eigen::Isometry3d(Eigen::Translation3d(0.01, 0.25, 0.0));
     const RegistrationResult r = mapper.Register(second, prior, 0.1);
-    EXPECT_TRUE(r.fallback);
-    EXPECT_NE(r.fallback_reason.find("degenerate"), std::string::npos) << r.fallback_reason;
+    EXPECT_TRUE(r.fallback());
+    EXPECT_EQ(r.fallback_cause, FallbackCause::kDegenerate) << ToString(r.fallback_cause);
     EXPECT_TRUE(r.T_world_base.isApprox(prior.T_world_base));
     EXPECT_TRUE(r.covariance.isApprox(prior.covariance));  // the prior's, as its pose
     EXPECT_LT(r.observability, MapperConfig{}.min_observability);

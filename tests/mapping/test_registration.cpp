@@ -59,7 +59,7 @@ TEST_P(KnownTransform, IsRecovered) {
     ASSERT_TRUE(mapper.Register(first, prior, 0.1).first_scan);
     const RegistrationResult result = mapper.Register(copy, prior, 0.1);
 
-    ASSERT_FALSE(result.fallback) << result.fallback_reason;
+    ASSERT_FALSE(result.fallback()) << ToString(result.fallback_cause);
     std::printf("%s: observability %.4f\n", ToString(method), result.observability);
     const Eigen::Isometry3d error = T_true.inverse() * result.T_world_base;
     EXPECT_LT(error.translation().norm(), 0.05) << "method " << ToString(method);

@@ -57,7 +57,7 @@ double NewestTwistRms(int K, int trials) {
     config.qc_linear = Eigen::Vector3d::Constant(1e-8);  // a constant twist: average everything
     config.qc_angular = Eigen::Vector3d::Constant(1e-8);
     config.max_iterations = 20;
-    WindowNoise noise{0.1, WindowLoss::kNone, 1.0};
+    WindowNoise noise{0.1, RobustKernel::kNone, 1.0};
     std::mt19937 rng(42 + K);
     const double dt = 0.1;
     double sum_sq = 0.0;

@@ -59,6 +59,9 @@ void ReadMapper(YamlSection s, mapping::MapperConfig &c) {
     s.Read("registration_sigma_rotation_rad", c.registration_sigma_rotation_rad);
     s.Read("registration_floor_sigma_translation_m", c.registration_floor_sigma_translation_m);
     s.Read("registration_floor_sigma_rotation_rad", c.registration_floor_sigma_rotation_rad);
+    s.Read("registration_weak_ratio", c.registration_weak_ratio);
+    s.Read("doppler_in_registration", c.doppler_in_registration);
+    s.Read("jump_gate_innovation", c.jump_gate_innovation);
     s.RejectUnknownKeys();
 }
 

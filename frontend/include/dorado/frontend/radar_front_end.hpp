@@ -85,11 +85,9 @@ struct FrontEndResult {
     std::string prior_substitution;
     /// The prior handed to the mapper (when run_mapper).
     mapping::MotionPrior prior;
-    /// The mapper's result (when run_mapper): fallback, correspondences, fitness, ...
+    /// The mapper's result (when run_mapper): fallback, correspondences, fitness, the points it
+    /// added to its map (map_points_added_world: for an output map or a live display), ...
     mapping::RegistrationResult registration;
-    /// The scan's static, in-range points in the world frame at the final pose (what the mapper
-    /// adds to its map), for an output map or a live display.
-    Eigen::Matrix3Xd static_points_world;
 
     FrontEndTimes times;
 };

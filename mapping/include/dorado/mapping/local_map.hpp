@@ -30,8 +30,10 @@ class LocalMap {
     LocalMap &operator=(LocalMap &&) noexcept;
 
     /// Adds points (world frame) to the voxels that still have room, then drops the voxels farther
-    /// than max_distance_m from position_world (the vehicle).
-    void Update(const Eigen::Matrix3Xd &points_world, const Eigen::Vector3d &position_world);
+    /// than max_distance_m from position_world (the vehicle). Returns the points it added that are
+    /// in the map after the update (world frame, in input order).
+    Eigen::Matrix3Xd Update(const Eigen::Matrix3Xd &points_world,
+                            const Eigen::Vector3d &position_world);
 
     /// Builds PCL's float copy of the map now (otherwise on the first registration after an
     /// Update).

@@ -36,7 +36,7 @@ inline constexpr PriorKind kAllPriorKinds[] = {PriorKind::kNone, PriorKind::kCon
 [[nodiscard]] inline bool NeedsImu(PriorKind kind) {
     return kind == PriorKind::kImu || kind == PriorKind::kImuDoppler;
 }
-/// Whether the prior needs the Doppler ego-velocity.
+/// Whether the prior needs (and then carries) the Doppler ego-velocity.
 [[nodiscard]] inline bool NeedsDoppler(PriorKind kind) {
     return kind == PriorKind::kDoppler || kind == PriorKind::kImuDoppler;
 }
@@ -48,15 +48,10 @@ inline constexpr PriorKind kAllPriorKinds[] = {PriorKind::kNone, PriorKind::kCon
 struct MotionPrior {
     Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
     Matrix6d covariance = Matrix6d::Identity();
-    std::string source;  ///< "none", "constvel", "imu", "doppler", "imu+doppler" (for reports)
+    /// What it was built from. With NeedsDoppler(kind) the prior carries the Doppler
+    /// ego-velocity: the mapper's Doppler residuals would count the same points a second time.
+    PriorKind kind = PriorKind::kNone;
 };
-
-/// Whether the prior was built from the Doppler ego-velocity (`doppler`, `imu+doppler`): the
-/// mapper's Doppler residuals would then count the same points a second time.
-[[nodiscard]] inline bool CarriesDoppler(const MotionPrior &prior) {
-    return prior.source == ToString(PriorKind::kDoppler) ||
-           prior.source == ToString(PriorKind::kImuDoppler);
-}
 
 /// Velocity of the base frame, expressed in the base frame, with its covariance (as the Doppler
 /// odometry's kinematic model gives it, paper eq. 6-7 and 9).

@@ -13,6 +13,7 @@
 #include "dorado/core/extrinsics.hpp"
 #include "dorado/core/radar_scan.hpp"
 #include "dorado/mapping/local_map.hpp"
+#include "dorado/mapping/measurements.hpp"
 #include "dorado/mapping/motion_prior.hpp"
 #include "dorado/mapping/window_smoother.hpp"
 
@@ -22,7 +23,6 @@ enum class RegistrationMethod { kPointToPoint, kPointToPlane, kGicp };
 /// kCeres: the new pose alone (registration + Doppler + prior); kWindow: the fixed-lag smoother
 /// over the last window.size scans (window_smoother.hpp).
 enum class Refinement { kNone, kCeres, kWindow };
-enum class RobustKernel { kNone, kHuber, kCauchy, kTukey };
 /// How the registration's information about the pose is counted when it is fused with the prior
 /// (configs/mapper.yaml, registration_covariance):
 ///   kIndependent: every point residual an independent measurement of the per-point noise model
@@ -82,15 +82,48 @@ struct MapperConfig {
     double max_prior_mahalanobis_squared = 25.0;
     double registration_sigma_translation_m = 0.1;
     double registration_sigma_rotation_rad = 0.01;
+    /// The jump test on the innovation instead: the registered pose's distance from the prior
+    /// under the prior's covariance plus the registration's own (registration_covariance at PCL's
+    /// pose, with its floor and weak directions), so a young map's or a weak direction's wide
+    /// registration widens the gate by what it shows, and a tight one narrows it. The
+    /// registration_sigma_* above are then unused.
+    bool jump_gate_innovation = false;
     /// The registration's own noise that no scan's residuals show (the map's error, shared by all
     /// of a scan's matches): added to the registration's covariance, per axis (1 sigma).
     double registration_floor_sigma_translation_m = 0.03;
     double registration_floor_sigma_rotation_rad = 0.003;
+    /// Degeneracy-aware registration (Zhang et al. ICRA 2016, X-ICP), refinement ceres: a direction
+    /// of the registration's per-point information (its translation and rotation blocks, each
+    /// eigen-decomposed) whose eigenvalue is below this fraction of its block's largest is weak:
+    /// the registered pose keeps the prior's value along it and the registration adds no
+    /// information there (the prior carries the pose); across the others the map does. 0: off.
+    double registration_weak_ratio = 0.0;
+    /// With a prior built from the Doppler velocity (doppler, imu+doppler), let the Doppler
+    /// residuals join the registered pose's step anyway (counted a second time there; issue 30's
+    /// A/B). The output's step never counts them twice.
+    bool doppler_in_registration = false;
     double min_observability = 0.004;
 
     /// Throws std::invalid_argument naming the first bad key.
     void Validate() const;
 };
+
+/// Why a scan's registration was not trusted and its pose fell back to the prior, in the order
+/// the checks run; the numbers that decided it are in RegistrationResult::fallback_detail.
+enum class FallbackCause {
+    kNone,                   ///< registered
+    kTooFewPoints,           ///< "too few points": the downsampled scan is smaller than min_correspondences
+    kNotConverged,           ///< "registration did not converge"
+    kTooFewCorrespondences,  ///< "too few correspondences" within the threshold
+    kBadFitness,             ///< "bad fitness": their RMS distance above max_rms_m
+    kDegenerate,             ///< "degenerate geometry": observability below min_observability
+    kJump,                   ///< "jump outside the prior": max_prior_mahalanobis_squared exceeded
+};
+/// Every cause, in the order above.
+inline constexpr FallbackCause kAllFallbackCauses[] = {
+    FallbackCause::kNone,        FallbackCause::kTooFewPoints, FallbackCause::kNotConverged,
+    FallbackCause::kTooFewCorrespondences, FallbackCause::kBadFitness,
+    FallbackCause::kDegenerate,  FallbackCause::kJump};
 
 /// Milliseconds spent in each stage of Register.
 struct StageTimes {
@@ -112,6 +145,13 @@ struct RegisteredPose {
     Matrix6d covariance = Matrix6d::Zero();
     double residual_scale = 0.0;  ///< whitened residual RMS (1 = the noise model)
     int clusters = 0;             ///< independent groups of residuals (clustered model)
+    /// Directions the registration does not observe (registration_weak_ratio), and the projector
+    /// onto the ones it does (identity when none is weak); `information` is the registration's
+    /// information about the pose, zero along the weak directions (covariance: its inverse,
+    /// regularised).
+    int weak_directions = 0;
+    Matrix6d strong_projector = Matrix6d::Identity();
+    Matrix6d information = Matrix6d::Zero();
 };
 
 struct RegistrationResult {
@@ -125,8 +165,10 @@ struct RegistrationResult {
     Matrix6d covariance = Matrix6d::Zero();
     RegisteredPose registered;    ///< the registration's estimate that T_world_base fuses
     bool first_scan = false;      ///< the map was empty: the pose is the prior and starts the map
-    bool fallback = false;        ///< registration not trusted: the pose is the prior
-    std::string fallback_reason;  ///< why (empty when registered)
+    /// Registration not trusted (kNone: registered): the pose is the prior.
+    FallbackCause fallback_cause = FallbackCause::kNone;
+    std::string fallback_detail;  ///< the numbers behind the cause, e.g. "rms 1.7 m" (for reports)
+    [[nodiscard]] bool fallback() const { return fallback_cause != FallbackCause::kNone; }
     int source_points = 0;        ///< downsampled points registered
     int correspondences = 0;      ///< within the threshold at the final pose
     double fitness_rms_m = 0.0;   ///< RMS distance of those correspondences
@@ -136,6 +178,10 @@ struct RegistrationResult {
     double threshold_m = 0.0;  ///< correspondence threshold used
     int doppler_residuals = 0;
     bool map_updated = false;
+    /// The points this scan added to the mapper's map, world frame, placed at the pose the map is
+    /// built from (the registered pose with refinement ceres, the output with none and window):
+    /// the union over a run is the map as it was (map.pcd), cropping aside.
+    Eigen::Matrix3Xd map_points_added_world;
     std::size_t local_map_points = 0;  ///< after this scan's update (bounded by the crop radius)
     StageTimes times;
 };
@@ -174,6 +220,8 @@ class RadarMapper {
 };
 
 [[nodiscard]] const char *ToString(RegistrationMethod method);
+/// "" (kNone), "too few points", "registration did not converge", ... (as in the enum).
+[[nodiscard]] const char *ToString(FallbackCause cause);
 [[nodiscard]] const char *ToString(RobustKernel kernel);
 /// "none" | "ceres" | "window".
 [[nodiscard]] const char *ToString(Refinement refinement);

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "dorado/core/extrinsics.hpp"
+#include "dorado/mapping/measurements.hpp"
 
 namespace dorado::mapping {
 
@@ -43,38 +44,22 @@ struct WindowConfig {
     void Validate() const;
 };
 
-/// One scan-to-map correspondence: p_base should lie at q_world; sqrt_information whitens the
-/// 3-vector error R_world_base p_base + t_world_base - q_world.
-struct WindowMatch {
-    Eigen::Vector3d p_base;
-    Eigen::Vector3d q_world;
-    Eigen::Matrix3d sqrt_information;
-};
-
-/// One static point's Doppler measurement.
-struct WindowDoppler {
-    Eigen::Vector3d d_radar;  ///< unit direction to the point, radar frame
-    double doppler_mps;       ///< measured radial velocity, positive = receding
-};
-
 /// Everything the smoother keeps about one scan.
 struct WindowScan {
     double dt_s = 0.1;  ///< since the previous scan (ignored for the first)
     Eigen::Isometry3d T_world_base_initial = Eigen::Isometry3d::Identity();
     Eigen::Vector3d v_base_initial = Eigen::Vector3d::Zero();
     Eigen::Vector3d omega_base_initial = Eigen::Vector3d::Zero();
-    std::vector<WindowMatch> matches;  ///< empty: no registration (first scan, fallback)
-    std::vector<WindowDoppler> doppler;
+    std::vector<Correspondence> matches;  ///< empty: no registration (first scan, fallback)
+    std::vector<DopplerObservation> doppler;
     std::optional<Eigen::Vector3d> gyro_base_radps;  ///< mean gyro rate, base frame
 };
 
-/// Robust loss of the registration and Doppler residuals (mirrors mapping::RobustKernel).
-enum class WindowLoss { kNone, kHuber, kCauchy, kTukey };
-
-/// The measurement noise and robust loss the smoother shares with the mapper.
+/// The measurement noise and robust loss the smoother shares with the mapper (the mapper passes
+/// its doppler_sigma_mps, kernel and kernel_scale).
 struct WindowNoise {
-    double doppler_sigma_mps = 0.15;
-    WindowLoss loss = WindowLoss::kCauchy;
+    double doppler_sigma_mps = 0.0;
+    RobustKernel loss = RobustKernel::kNone;
     double loss_scale = 1.0;
 };
 

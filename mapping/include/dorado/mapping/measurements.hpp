@@ -1,0 +1,27 @@
+#pragma once
+/// @file measurements.hpp
+/// The measurements the mapper's refinement and the window smoother share: scan-to-map
+/// correspondences, static points' Doppler and the robust kernel both put on them.
+
+#include <Eigen/Core>
+
+namespace dorado::mapping {
+
+/// One scan-to-map correspondence: p_base should lie at q_world; sqrt_information whitens the
+/// 3-vector error R_world_base p_base + t_world_base - q_world (the point-to-distribution error).
+struct Correspondence {
+    Eigen::Vector3d p_base;
+    Eigen::Vector3d q_world;
+    Eigen::Matrix3d sqrt_information;
+};
+
+/// One static point's Doppler measurement.
+struct DopplerObservation {
+    Eigen::Vector3d d_radar;  ///< unit direction to the point, radar frame
+    double doppler_mps;       ///< measured radial velocity, positive = receding
+};
+
+/// Robust loss of the registration and Doppler residuals (in whitened units).
+enum class RobustKernel { kNone, kHuber, kCauchy, kTukey };
+
+}  // namespace dorado::mapping

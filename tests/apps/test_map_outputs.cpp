@@ -1,0 +1,98 @@
+// The exported map is the mapper's map: `dorado map`'s map.pcd (MapOutputs) holds exactly the
+// points the mapper added to its own map, where it placed them. On a drive short enough that the
+// map is never cropped, map.pcd equals the mapper's internal map point for point.
+#include <gtest/gtest.h>
+#include <pcl/io/pcd_io.h>
+#include <pcl/point_types.h>
+
+#include <algorithm>
+#include <array>
+#include <filesystem>
+#include <random>
+#include <vector>
+
+#include "dorado/core/lie.hpp"
+#include "dorado/frontend/radar_front_end.hpp"
+#include "dorado/testing/street_scene.hpp"
+#include "map_outputs.hpp"
+
+namespace dorado::apps {
+namespace {
+
+using testing::MakeDrive;
+using testing::MakeStreetWorld;
+using testing::RadarSimOptions;
+using testing::SimulateScan;
+using testing::TruthSample;
+
+Extrinsics Mount() {
+    Extrinsics e;
+    e.T_base_radar.translation() = Eigen::Vector3d(1.8, 0.1, 1.2);
+    e.T_base_radar.linear() = ExpSO3(Eigen::Vector3d(0.0, 0.0, 0.15));
+    return e;
+}
+
+// The points as float triples (PCD's precision), sorted, for a point-for-point comparison.
+std::vector<std::array<float, 3>> Sorted(const Eigen::Matrix3Xd &points) {
+    std::vector<std::array<float, 3>> out;
+    for (Eigen::Index i = 0; i < points.cols(); ++i)
+        out.push_back({static_cast<float>(points(0, i)), static_cast<float>(points(1, i)),
+                       static_cast<float>(points(2, i))});
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+// Runs the street drive through the front end and MapOutputs; returns map.pcd and the mapper's map.
+void RunDrive(mapping::Refinement refinement, Eigen::Matrix3Xd &pcd_points,
+              Eigen::Matrix3Xd &mapper_points) {
+    frontend::FrontEndConfig config;
+    config.mapper.refinement = refinement;
+    config.mapper.map.max_distance_m = 1e6;  // never cropped: the whole run is still in the map
+    VehicleGeometry geometry;
+    geometry.half_wheelbase_m = 1.4;
+    frontend::RadarFrontEnd front_end(config, Mount(), geometry);
+    const Eigen::Matrix3Xd world = MakeStreetWorld(3);
+    const std::vector<TruthSample> truth = MakeDrive(60, 0.1);
+    std::mt19937 rng(7);
+    RadarSimOptions sim;
+    sim.points_per_scan = 1500;
+    MapOutputs outputs;
+    int fallbacks = 0;
+    for (int k = 0; k < 60; ++k) {
+        RadarScan scan =
+            SimulateScan(world, truth[k].T_world_base, Mount().T_base_radar, truth[k].v_base,
+                         truth[k].omega_base, Eigen::Matrix3Xd(3, 0), Eigen::Vector3d::Zero(), sim,
+                         rng, nullptr);
+        scan.stamp_ns = 1'000'000'000 + k * 100'000'000LL;
+        const frontend::FrontEndResult result = front_end.Process(scan);
+        ASSERT_TRUE(result.accepted);
+        fallbacks += result.registration.fallback() ? 1 : 0;
+        outputs.Add(result);
+    }
+    EXPECT_LT(fallbacks, 6);  // a registered drive, so the two chains (ceres) differ
+    const std::string dir = (std::filesystem::temp_directory_path() /
+                             ("dorado_map_outputs_" + std::to_string(static_cast<int>(refinement))))
+                                .string();
+    std::filesystem::create_directories(dir);
+    outputs.Write(dir, front_end.trajectory());
+    pcl::PointCloud<pcl::PointXYZ> cloud;
+    ASSERT_EQ(pcl::io::loadPCDFile(dir + "/map.pcd", cloud), 0);
+    pcd_points.resize(3, static_cast<Eigen::Index>(cloud.size()));
+    for (std::size_t i = 0; i < cloud.size(); ++i)
+        pcd_points.col(static_cast<Eigen::Index>(i)) = cloud[i].getVector3fMap().cast<double>();
+    mapper_points = front_end.local_map()->Points();
+    std::filesystem::remove_all(dir);
+}
+
+TEST(MapOutputs, MapPcdIsTheMappersMapPointForPoint) {
+    for (const mapping::Refinement refinement :
+         {mapping::Refinement::kCeres, mapping::Refinement::kNone}) {
+        Eigen::Matrix3Xd pcd, mapper;
+        RunDrive(refinement, pcd, mapper);
+        ASSERT_GT(mapper.cols(), 500);
+        EXPECT_EQ(Sorted(pcd), Sorted(mapper)) << mapping::ToString(refinement);
+    }
+}
+
+}  // namespace
+}  // namespace dorado::apps
