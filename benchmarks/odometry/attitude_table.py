@@ -1,6 +1,7 @@
 # /usr/bin/python3 benchmarks/odometry/attitude_table.py BENCH_OUT [RUN_SUBSTRING]: per sequence and run of a
 # `dorado bench` output, the roll / pitch / yaw drift [deg/min] (slope of a line fitted to the Euler ZYX angles of
-# R_gt_rel^T R_est_rel, first pose aligned, against time) and the ATE rotation [deg] (RMS angle of that error), as a
+# R_gt^T R_align R_est, R_align the best constant rotation, against time) and the ATE rotation [deg] (RMS angle of
+# R_gt_rel^T R_est_rel, first pose aligned), as a
 # markdown table, then the same pooled (RMS over sequences) per run.
 import glob, os, sys
 import numpy as np
@@ -18,7 +19,12 @@ def metrics(run_dir, seq_dir):
     rgi = Slerp(tg, rg)(te)
     err = (rgi[0].inv() * rgi).inv() * (re[0].inv() * re)
     ate_rot = float(np.sqrt(np.mean(err.magnitude() ** 2)) * 180 / np.pi)
-    ypr = np.unwrap(err.as_euler('ZYX'), axis=0) * 180 / np.pi
+    # The drift after the best constant rotation (an absolute attitude, as the ground's, is not
+    # penalised for the world frame it chose at the start): R_align = argmax trace, on SO(3).
+    M = sum((rgi[i] * re[i].inv()).as_matrix() for i in range(len(te)))
+    U, _, Vt = np.linalg.svd(M)
+    R_align = R.from_matrix(U @ np.diag([1, 1, np.linalg.det(U @ Vt)]) @ Vt)
+    ypr = np.unwrap((rgi.inv() * (R_align * re)).as_euler('ZYX'), axis=0) * 180 / np.pi
     t_min = (te - te[0]) / 60.0
     slope = [float(np.polyfit(t_min, ypr[:, k], 1)[0]) for k in range(3)]
     return dict(roll=slope[2], pitch=slope[1], yaw=slope[0], ate_rot=ate_rot)

@@ -39,7 +39,7 @@ struct GroundPlaneConfig {
     /// Uneven ground (a ridge, a kerb, a ramp in the window): the refit's residual RMS, scaled
     /// to a point with the floor noise (GroundObservation::residual_sigma_m), above this [m]
     /// gives no observation: one plane does not describe the road under the vehicle.
-    double max_residual_sigma_m = 0.1;
+    double max_residual_sigma_m = 0.5;
     /// Elevation noise of the radar [deg] (from the dataset's radar section when > 0): a point at
     /// range r has vertical noise ~ r * sigma; the refit weights it accordingly.
     double elevation_sigma_deg = 1.0;
