@@ -52,7 +52,7 @@ constexpr const char *kCsvHeader =
     "cov_omega_model_xz,cov_omega_model_yy,cov_omega_model_yz,cov_omega_model_zz,fallback_cause,"
     "zero_velocity_update,"
     "ground_valid,ground_reason,ground_roll_deg,ground_pitch_deg,ground_inliers,"
-    "ground_correction_roll_deg,ground_correction_pitch_deg\n";
+    "ground_correction_roll_deg,ground_correction_pitch_deg,ground_residual_m,ground_chi2\n";
 
 // The ground-plane attitude columns (ground.enabled; the reason names a scan without ground).
 void AppendGround(std::ostream &row, const odometry::GroundAttitudeStep &g) {
@@ -61,7 +61,8 @@ void AppendGround(std::ostream &row, const odometry::GroundAttitudeStep &g) {
     row << ',' << (o.valid ? 1 : 0) << ',' << odometry::ToString(o.fallback) << ','
         << Num(o.roll_pitch_rad.x() * kDeg) << ',' << Num(o.roll_pitch_rad.y() * kDeg) << ','
         << o.inliers << ',' << Num(g.correction_rad.x() * kDeg) << ','
-        << Num(g.correction_rad.y() * kDeg);
+        << Num(g.correction_rad.y() * kDeg) << ',' << Num(o.residual_sigma_m) << ','
+        << Num(g.innovation_chi2);
 }
 
 std::string CsvRow(const odometry::OdometryStep &step, Eigen::Index points,

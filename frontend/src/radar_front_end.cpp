@@ -77,7 +77,8 @@ struct RadarFrontEnd::State {
         : config((c.Validate(), std::move(c))),
           extrinsics(e),
           geometry(g),
-          odometry(OdometryConfigFor(config, g), e, g) {
+          odometry(OdometryConfigFor(config, g), e, g),
+          prior_ground(odometry.ground_config()) {
         if (config.run_mapper) mapper.emplace(MapperConfigFor(config.mapper, g), e, g);
     }
 
@@ -88,6 +89,9 @@ struct RadarFrontEnd::State {
     std::optional<mapping::RadarMapper> mapper;
     ImuWindow imu;
     GyroBiasEstimator gyro_bias;  // from the stationary scans, subtracted from every gyro rate
+    // The ground-plane attitude on the mapper's chain: the doppler prior's roll and pitch
+    // corrected by the scan's ground plane, as the odometry corrects its own (ground.enabled).
+    odometry::GroundAttitudeFilter prior_ground;
     Trajectory trajectory;
     Eigen::Isometry3d T_world_base_initial = Eigen::Isometry3d::Identity();
     // The last two accepted poses since the last reset (constvel, imu priors).
@@ -222,6 +226,14 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
         const auto t_prior = Clock::now();
         const double dt_s = s.scans_since_reset == 0 ? 0.1 : step.dt_s;
         result.prior = s.BuildPrior(step, scan_radar.stamp_ns, dt_s, result);
+        if (s.config.odometry.ground.enabled && result.prior_used == mapping::PriorKind::kDoppler) {
+            // The twist carries no attitude correction: the prior's roll and pitch get the
+            // ground's, filtered on the mapper's own chain (the first scan initialises them).
+            odometry::GroundAttitudeStep ground;
+            s.prior_ground.Predict(step.covariance_used.bottomRightCorner<3, 3>(), step.dt_s);
+            s.prior_ground.Update(step.ground.fit, step.v_base_used_mps.norm() * step.dt_s,
+                                  result.prior.T_world_base, ground);
+        }
         result.times.prior_ms = MillisecondsSince(t_prior);
         // The gyro feeds the window smoother when the prior is an IMU one.
         const bool gyro = mapping::NeedsImu(s.config.prior) && gyro_base.allFinite();
@@ -249,6 +261,7 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
 void RadarFrontEnd::Reset(const Eigen::Isometry3d &T_world_base) {
     State &s = *state_;
     s.odometry.Restart(T_world_base);
+    s.prior_ground.Reset();
     if (s.mapper)
         s.mapper.emplace(MapperConfigFor(s.config.mapper, s.geometry), s.extrinsics, s.geometry);
     s.T_world_base_initial = T_world_base;

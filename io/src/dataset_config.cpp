@@ -212,6 +212,11 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
     if (!(config.vehicle.half_wheelbase_m >= 0.0))
         vehicle.Fail("half_wheelbase_m", "must be a number >= 0");
     config.vehicle.model_noise = ReadModelNoise(vehicle.Child("model_noise"));
+    if (vehicle.Has("base_height_m")) {  // absent: unknown, the ground-plane attitude is off
+        config.vehicle.base_height_m = vehicle.Get<double>("base_height_m", 0.0);
+        if (!(config.vehicle.base_height_m > 0.0 && config.vehicle.base_height_m < 10.0))
+            vehicle.Fail("base_height_m", "must be a height above the road in (0, 10) m");
+    }
     vehicle.RejectUnknownKeys();
     config.radar = ReadRadarSensor(top.Child("radar"));
 
@@ -242,6 +247,7 @@ DatasetConfig ResolveDataset(const std::string &argument) {
         const PaperMount mount = MountFromPaperParameters(PaperMountParameters{});
         config.extrinsics = mount.extrinsics;
         config.vehicle.half_wheelbase_m = mount.half_wheelbase_m;
+        config.vehicle.base_height_m = mount.base_height_m;
         config.name = (path.has_filename() ? path : path.parent_path()).stem().string();
         config.reader = ReaderKind::kRosbag;
         config.rosbag.path = argument;
@@ -345,6 +351,8 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
     out << YAML::Key << "vehicle" << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "model" << YAML::Value << ToString(config.vehicle.model);
     out << YAML::Key << "half_wheelbase_m" << YAML::Value << config.vehicle.half_wheelbase_m;
+    if (std::isfinite(config.vehicle.base_height_m))
+        out << YAML::Key << "base_height_m" << YAML::Value << config.vehicle.base_height_m;
     const KinematicModelNoise &noise = config.vehicle.model_noise;
     out << YAML::Key << "model_noise" << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "sigma_icr_x_m" << YAML::Value << noise.sigma_icr_x_m;

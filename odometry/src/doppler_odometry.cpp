@@ -75,10 +75,11 @@ DopplerOdometry::DopplerOdometry(DopplerOdometryConfig config, const Extrinsics 
       estimator_(config_.ego_velocity),
       model_(extrinsics, geometry),
       T_base_radar_(extrinsics.T_base_radar),
-      ground_filter_([this] {
+      ground_filter_([this, &geometry] {
           GroundAttitudeConfig ground = config_.ground;
           const double sigma = config_.ego_velocity.sensor.elevation_sigma_deg;
           if (sigma > 0.0) ground.plane.elevation_sigma_deg = sigma;
+          ground.plane.base_height_m = geometry.base_height_m;
           return ground;
       }()) {}
 

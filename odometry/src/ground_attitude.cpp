@@ -22,6 +22,7 @@ void GroundAttitudeConfig::Validate() const {
     require(road_correlation_m >= 0.0, "road_correlation_m", "must be >= 0");
     require(attitude_random_walk_deg_per_sqrt_s >= 0.0, "attitude_random_walk_deg_per_sqrt_s",
             "must be >= 0");
+    require(max_innovation_chi2 >= 0.0, "max_innovation_chi2", "must be >= 0 (0: no gate)");
 }
 
 GroundAttitudeFilter::GroundAttitudeFilter(GroundAttitudeConfig config)
@@ -39,6 +40,7 @@ void GroundAttitudeFilter::Predict(const Eigen::Matrix3d &cov_omega_base, double
 void GroundAttitudeFilter::Update(const GroundObservation &observation, double distance_m,
                                   Eigen::Isometry3d &T_world_base, GroundAttitudeStep &step) {
     step.observation = observation;
+    step.fit = observation;
     step.cov_roll_pitch = P_;
     if (!observation.valid) return;
     const double slope2 = std::pow(config_.road_slope_sigma_deg * kDeg, 2);
@@ -54,13 +56,22 @@ void GroundAttitudeFilter::Update(const GroundObservation &observation, double d
         return;
     }
     if (!(distance_m > 1e-3)) return;
+    // z = [roll, pitch] of R_world_base (ZYX, yaw free); H = I on the Euler error.
+    const Eigen::Vector2d innovation = observation.roll_pitch_rad - rpy.head<2>();
+    // The gate: one look at the road's slope (a ridge, a kerb or a ramp under the vehicle tilts
+    // the plane beyond what the road's slope and the drift since the last update explain).
+    const Eigen::Matrix2d S1 = P_ + observation.cov_roll_pitch + slope2 * Eigen::Matrix2d::Identity();
+    step.innovation_chi2 = innovation.dot(S1.ldlt().solve(innovation));
+    if (config_.max_innovation_chi2 > 0.0 && !(step.innovation_chi2 <= config_.max_innovation_chi2)) {
+        step.observation.valid = false;
+        step.observation.fallback = GroundFallback::kInconsistent;
+        return;
+    }
     // The road's slope is the measurement's error: correlated over road_correlation_m, so a scan
     // that moved distance_m holds distance_m / road_correlation_m of an independent look at it.
     const double looks = std::max(1.0, config_.road_correlation_m / distance_m);
     const Eigen::Matrix2d R =
         observation.cov_roll_pitch + slope2 * looks * Eigen::Matrix2d::Identity();
-    // z = [roll, pitch] of R_world_base (ZYX, yaw free); H = I on the Euler error.
-    const Eigen::Vector2d innovation = observation.roll_pitch_rad - rpy.head<2>();
     const Eigen::Matrix2d K = P_ * (P_ + R).inverse();
     step.correction_rad = K * innovation;
     if (!step.correction_rad.allFinite()) return;

@@ -81,7 +81,10 @@ void GroundPlaneConfig::Validate() const {
     auto require = [](bool ok, const char *key, const char *what) {
         if (!ok) throw std::invalid_argument(std::string("ground.") + key + ": " + what);
     };
-    require(std::isfinite(base_height_m), "base_height_m", "must be finite");
+    // NaN = unknown (no observation, kNoBaseHeight); the dataset's reader checks a given one.
+    require(std::isnan(base_height_m) || std::isfinite(base_height_m), "base_height_m",
+            "must be finite");
+    require(max_residual_sigma_m > 0.0, "max_residual_sigma_m", "must be > 0");
     require(height_window_m > 0.0, "height_window_m", "must be > 0");
     require(max_tilt_deg > 0.0 && max_tilt_deg < 60.0, "max_tilt_deg", "must be in (0, 60)");
     require(min_distance_m >= 0.0, "min_distance_m", "must be >= 0");
@@ -109,6 +112,12 @@ const char *ToString(GroundFallback reason) {
             return "degenerate";
         case GroundFallback::kNoVelocity:
             return "no_velocity";
+        case GroundFallback::kUneven:
+            return "uneven";
+        case GroundFallback::kInconsistent:
+            return "inconsistent";
+        case GroundFallback::kNoBaseHeight:
+            return "no_base_height";
     }
     return "?";
 }
@@ -127,6 +136,10 @@ Eigen::Vector2d RollPitchFromSlope(const Eigen::Vector2d &slope, Eigen::Matrix2d
 GroundObservation FitGroundPlane(const GroundPlaneConfig &c, const Eigen::Matrix3Xd &p,
                                  const std::vector<bool> &use) {
     GroundObservation obs;
+    if (!std::isfinite(c.base_height_m)) {
+        obs.fallback = GroundFallback::kNoBaseHeight;
+        return obs;
+    }
     const double tan_tilt = std::tan(c.max_tilt_deg * kDeg);
     std::vector<int> candidates;
     for (Eigen::Index i = 0; i < p.cols(); ++i) {
@@ -199,6 +212,7 @@ GroundObservation FitGroundPlane(const GroundPlaneConfig &c, const Eigen::Matrix
     obs.cov_roll_pitch = J * cov_theta.bottomRightCorner<2, 2>() * J.transpose();
     obs.residual_sigma_m = std::sqrt(sigma2);
     if (!obs.cov_roll_pitch.allFinite()) return fail(GroundFallback::kDegenerate);
+    if (obs.residual_sigma_m > c.max_residual_sigma_m) return fail(GroundFallback::kUneven);
     obs.valid = true;
     return obs;
 }

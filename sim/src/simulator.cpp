@@ -53,6 +53,7 @@ SimulationResult Simulate(const SequenceConfig &config, const std::string &bag_p
     result.extrinsics.T_base_radar = config.radar.mount.Transform();
     result.extrinsics.T_base_imu = imu.T_base_imu();
     result.vehicle.half_wheelbase_m = config.vehicle.half_wheelbase_m;
+    result.vehicle.base_height_m = config.vehicle.wheel_radius_m;  // the base origin's height
     const Eigen::Isometry3d &T_base_radar = result.extrinsics.T_base_radar;
 
     const int64_t start_ns = SecondsToNanos(config.start_time_s);

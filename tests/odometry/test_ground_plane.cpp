@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <limits>
 #include <random>
 
 #include "dorado/core/lie.hpp"
@@ -15,6 +16,14 @@ namespace dorado::odometry {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
+
+// The road 0.25 m below the base origin (the vehicle's base height, which the odometry copies
+// from VehicleGeometry).
+GroundPlaneConfig Plane() {
+    GroundPlaneConfig c;
+    c.base_height_m = 0.25;
+    return c;
+}
 
 struct Road {
     double roll = 3.0 * kDeg, pitch = -5.0 * kDeg;  // the base relative to the road
@@ -54,7 +63,7 @@ Eigen::Matrix3Xd MakeRoad(const Road &road, const GroundPlaneConfig &c, uint64_t
 }
 
 TEST(GroundPlane, TiltedRoadWithOutliersGivesItsRollAndPitch) {
-    const GroundPlaneConfig config;
+    const GroundPlaneConfig config = Plane();
     const Road road;
     const Eigen::Matrix3Xd points = MakeRoad(road, config, 1);
     const GroundObservation obs =
@@ -66,6 +75,53 @@ TEST(GroundPlane, TiltedRoadWithOutliersGivesItsRollAndPitch) {
     // About 70 % of the points are road; the outliers are at least 1 m off it.
     EXPECT_GT(obs.inliers, 300);
     EXPECT_LT(obs.inliers, 380);
+}
+
+TEST(GroundPlane, UnevenGroundAndUnknownHeightAreNamedFallbacks) {
+    GroundPlaneConfig config = Plane();
+    config.max_residual_sigma_m = 0.06;  // the flat road's residual is ~0.03 m here
+    Road road;
+    road.outlier_fraction = 0.0;
+    road.noise_scale = 0.3;
+    Eigen::Matrix3Xd points = MakeRoad(road, config, 5);
+    ASSERT_TRUE(FitGroundPlane(config, points, std::vector<bool>(points.cols(), true)).valid);
+    // Ridges across the road (0.12 m, 4 m wavelength sideways): no one plane fits it.
+    for (Eigen::Index i = 0; i < points.cols(); ++i)
+        points(2, i) += 0.12 * std::sin(2.0 * M_PI * points(1, i) / 4.0);
+    const GroundObservation uneven =
+        FitGroundPlane(config, points, std::vector<bool>(points.cols(), true));
+    EXPECT_EQ(uneven.fallback, GroundFallback::kUneven) << ToString(uneven.fallback);
+    EXPECT_STREQ(ToString(GroundFallback::kUneven), "uneven");
+    GroundPlaneConfig unknown = config;
+    unknown.base_height_m = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_EQ(FitGroundPlane(unknown, points, std::vector<bool>(points.cols(), true)).fallback,
+              GroundFallback::kNoBaseHeight);
+}
+
+TEST(GroundPlane, FilterRefusesAnObservationInconsistentWithItsPrediction) {
+    GroundAttitudeConfig config;
+    config.plane = Plane();
+    GroundAttitudeFilter filter(config);
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    GroundObservation obs;
+    obs.valid = true;
+    obs.cov_roll_pitch = Eigen::Matrix2d::Identity() * std::pow(0.5 * kDeg, 2);
+    GroundAttitudeStep step;
+    filter.Update(obs, 0.1, T, step);  // initialises: level
+    ASSERT_TRUE(step.updated);
+    filter.Predict(Eigen::Matrix3d::Identity() * std::pow(1.0 * kDeg, 2), 0.1);
+    // 20 deg of roll after 0.1 s: a kerb under one side, not the vehicle's attitude.
+    obs.roll_pitch_rad << 20.0 * kDeg, 0.0;
+    filter.Update(obs, 0.1, T, step);
+    EXPECT_FALSE(step.updated);
+    EXPECT_EQ(step.observation.fallback, GroundFallback::kInconsistent);
+    EXPECT_GT(step.innovation_chi2, config.max_innovation_chi2);
+    EXPECT_NEAR(RollPitchYaw(T.linear()).x(), 0.0, 1e-12);
+    // 2 deg is within the road's slope: used.
+    obs.roll_pitch_rad << 2.0 * kDeg, 0.0;
+    filter.Update(obs, 0.1, T, step);
+    EXPECT_TRUE(step.updated);
+    EXPECT_GT(RollPitchYaw(T.linear()).x(), 0.0);
 }
 
 TEST(GroundPlane, RollPitchFromSlopeMatchesTheRotationAndItsJacobian) {
@@ -86,7 +142,7 @@ TEST(GroundPlane, RollPitchFromSlopeMatchesTheRotationAndItsJacobian) {
 }
 
 TEST(GroundPlane, CovarianceMatchesTheScatterOverSeededTrials) {
-    const GroundPlaneConfig config;
+    const GroundPlaneConfig config = Plane();
     Road road;
     road.points = 300;
     const int trials = 300;
@@ -111,7 +167,7 @@ TEST(GroundPlane, CovarianceMatchesTheScatterOverSeededTrials) {
 }
 
 TEST(GroundPlane, NoGroundInTheScanIsANamedFallback) {
-    const GroundPlaneConfig config;
+    const GroundPlaneConfig config = Plane();
     // Walls and trees only: every point 4 m or more above the road.
     Eigen::Matrix3Xd points = MakeRoad(Road{}, config, 3);
     points.row(2).array() += 6.0;
@@ -199,7 +255,7 @@ RadarScan LevelRoadScan(const Extrinsics &extrinsics, int64_t stamp_ns, uint64_t
 TEST(GroundPlane, OdometryPullsAWrongInitialPitchTowardsTheRoad) {
     Extrinsics extrinsics;
     extrinsics.T_base_radar.translation() = Eigen::Vector3d(0.72, 0.0, 0.38);
-    const VehicleGeometry geometry{0.256, KinematicModelNoise{}};
+    const VehicleGeometry geometry{0.256, KinematicModelNoise{}, VehicleModel::kAckermann, 0.25};
     Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
     start.linear() = RotationFromRollPitchYaw(Eigen::Vector3d(0.0, 3.0 * kDeg, 0.0));
     double final_pitch[2] = {0.0, 0.0};
@@ -234,7 +290,7 @@ TEST(GroundPlane, FirstGroundObservationSetsRollAndPitch) {
     extrinsics.T_base_radar.translation() = Eigen::Vector3d(0.72, 0.0, 0.38);
     DopplerOdometryConfig config;
     config.ground.enabled = true;
-    DopplerOdometry odometry(config, extrinsics, VehicleGeometry{0.256, KinematicModelNoise{}});
+    DopplerOdometry odometry(config, extrinsics, VehicleGeometry{0.256, KinematicModelNoise{}, VehicleModel::kAckermann, 0.25});
     Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
     start.linear() = RotationFromRollPitchYaw(Eigen::Vector3d(-2.0 * kDeg, 4.0 * kDeg, 0.5));
     odometry.SetInitialPose(start);

@@ -68,8 +68,12 @@ void ReadGround(io::YamlSection m, odometry::GroundAttitudeConfig &c) {
     m.Read("road_correlation_m", c.road_correlation_m);
     m.Read("attitude_random_walk_deg_per_sqrt_s", c.attitude_random_walk_deg_per_sqrt_s);
     m.Read("initialize_from_ground", c.initialize_from_ground);
+    m.Read("max_innovation_chi2", c.max_innovation_chi2);
     odometry::GroundPlaneConfig &p = c.plane;
-    m.Read("base_height_m", p.base_height_m);
+    if (m.Has("base_height_m"))
+        m.Fail("base_height_m",
+               "the base's height above the road is the vehicle's: the dataset's "
+               "vehicle.base_height_m");
     m.Read("height_window_m", p.height_window_m);
     m.Read("max_tilt_deg", p.max_tilt_deg);
     m.Read("min_distance_m", p.min_distance_m);
@@ -78,6 +82,7 @@ void ReadGround(io::YamlSection m, odometry::GroundAttitudeConfig &c) {
     m.Read("ransac_iterations", p.ransac_iterations);
     m.Read("min_points", p.min_points);
     m.Read("min_depth_spread_m", p.min_depth_spread_m);
+    m.Read("max_residual_sigma_m", p.max_residual_sigma_m);
     m.Read("elevation_sigma_deg", p.elevation_sigma_deg);
     m.Read("seed", p.seed);
     m.RejectUnknownKeys();

@@ -6,6 +6,7 @@
 /// Z-ICR axis), X forward towards the front axle, Y left along the rear axle, Z up.
 
 #include <Eigen/Geometry>
+#include <limits>
 
 namespace dorado {
 
@@ -74,6 +75,10 @@ struct VehicleGeometry {
     /// The platform's kinematic constraint; kUnconstrained ignores half_wheelbase_m and
     /// model_noise. Last, so that {m, noise} aggregates keep their meaning.
     VehicleModel model = VehicleModel::kAckermann;
+    /// Height of the base origin (rear-axle centre) above the road [m], about the wheel radius:
+    /// where the ground-plane attitude looks for the road (z_base = -base_height_m). NaN =
+    /// unknown (the dataset's vehicle.base_height_m absent): no ground-plane attitude.
+    double base_height_m = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace dorado

@@ -39,6 +39,9 @@ struct PaperMountParameters {
 struct PaperMount {
     Extrinsics extrinsics;          ///< T_base_radar (T_base_imu identity: the node has no IMU)
     double half_wheelbase_m = 0.0;  ///< m = 0: the Y-ICR axis is the Z-ICR axis
+    /// The base origin (the paper's base_link height) above the road [m]: husky_description's
+    /// base_footprint offset, wheel radius 0.1651 - wheel vertical offset 0.0328.
+    double base_height_m = 0.132;
     /// The paper's base_link in dorado's base frame (a pure X shift): the node publishes
     /// T_world_base * T_base_baselink so that its TF means what the paper's does.
     Eigen::Isometry3d T_base_baselink = Eigen::Isometry3d::Identity();

@@ -56,8 +56,9 @@ struct DopplerOdometryConfig {
     /// prior) instead of eq. (5)'s twist as is. They agree to a few percent where eq. (5) is well
     /// conditioned; near an ICR axis (a side mount) the raw pitch or yaw rate is noise.
     bool angular_rate_prior = true;
-    /// Roll and pitch corrected per scan by the ground plane (ground_attitude.hpp); off by
-    /// default. The plane fit's elevation noise comes from ego_velocity.sensor when it has one.
+    /// Roll and pitch corrected per scan by the ground plane (ground_attitude.hpp). The plane
+    /// fit's elevation noise comes from ego_velocity.sensor when it has one, the road's height
+    /// from VehicleGeometry::base_height_m (unknown: no observation, kNoBaseHeight).
     GroundAttitudeConfig ground;
 
     /// Throws std::invalid_argument naming the first bad field.
@@ -108,6 +109,11 @@ class DopplerOdometry {
     /// Base poses, one per integrated scan; the first is T_world_base = initial pose.
     [[nodiscard]] const Trajectory &trajectory() const { return trajectory_; }
     [[nodiscard]] const KinematicModel &model() const { return model_; }
+    /// The ground-plane settings in use (the config's, with the vehicle's base height and the
+    /// radar's elevation noise).
+    [[nodiscard]] const GroundAttitudeConfig &ground_config() const {
+        return ground_filter_.config();
+    }
     void SetInitialPose(const Eigen::Isometry3d &T_world_base) { T_world_base_ = T_world_base; }
     /// Starts over at T_world_base: the next scan integrates nothing (as a first scan) and no
     /// earlier twist is reused, but stamps must still come after the last scan's.

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <limits>
 
 #include "dorado/odometry/ground_plane.hpp"
 
@@ -30,6 +31,11 @@ struct GroundAttitudeConfig {
     /// with the road at the start, not with the first pose); false: the first pose is taken as
     /// exactly known and only later scans correct it.
     bool initialize_from_ground = true;
+    /// Consistency with the predicted attitude: an observation whose innovation's squared
+    /// Mahalanobis distance, against the prediction's covariance + the fit's + one look at the
+    /// road's slope, exceeds this is refused (GroundFallback::kInconsistent). 9.21 = chi^2(2 dof)
+    /// at 99 %; 0 = no gate.
+    double max_innovation_chi2 = 9.21;
 
     /// Throws std::invalid_argument naming the first bad field ("ground.<key>: ...").
     void Validate() const;
@@ -37,10 +43,17 @@ struct GroundAttitudeConfig {
 
 /// What the filter did with one scan.
 struct GroundAttitudeStep {
+    /// The plane fit's observation as the filter decided on it (kInconsistent when refused).
     GroundObservation observation;
+    /// The plane fit's observation before the filter's gate (another filter on another chain of
+    /// poses, the mapper's prior, decides on it again).
+    GroundObservation fit;
     bool updated = false;                                      ///< the attitude was corrected
     Eigen::Vector2d correction_rad = Eigen::Vector2d::Zero();  ///< roll, pitch added
     Eigen::Matrix2d cov_roll_pitch = Eigen::Matrix2d::Zero();  ///< after this scan [rad^2]
+    /// The innovation's squared Mahalanobis distance (see max_innovation_chi2); NaN when no
+    /// observation was tested.
+    double innovation_chi2 = std::numeric_limits<double>::quiet_NaN();
 };
 
 class GroundAttitudeFilter {

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -16,8 +17,9 @@ namespace dorado::odometry {
 /// Which points count as ground and when a fit is accepted.
 struct GroundPlaneConfig {
     /// Height of the base origin (rear-axle centre) above the road [m]: the expected ground is the
-    /// plane z_base = -base_height_m (about the wheel radius).
-    double base_height_m = 0.25;
+    /// plane z_base = -base_height_m. Not a setting: DopplerOdometry copies the vehicle's
+    /// (VehicleGeometry::base_height_m, the dataset's vehicle.base_height_m); NaN = unknown.
+    double base_height_m = std::numeric_limits<double>::quiet_NaN();
     /// Ground candidates lie within this of the expected plane, widened by
     /// horizontal distance * tan(max_tilt_deg) [m].
     double height_window_m = 0.4;
@@ -34,6 +36,10 @@ struct GroundPlaneConfig {
     /// The inliers' horizontal distances must spread over this much (5th to 95th percentile) [m]:
     /// a band at one distance does not fix the pitch.
     double min_depth_spread_m = 3.0;
+    /// Uneven ground (a ridge, a kerb, a ramp in the window): the refit's residual RMS, scaled
+    /// to a point with the floor noise (GroundObservation::residual_sigma_m), above this [m]
+    /// gives no observation: one plane does not describe the road under the vehicle.
+    double max_residual_sigma_m = 0.5;
     /// Elevation noise of the radar [deg] (from the dataset's radar section when > 0): a point at
     /// range r has vertical noise ~ r * sigma; the refit weights it accordingly.
     double elevation_sigma_deg = 1.0;
@@ -52,10 +58,13 @@ enum class GroundFallback : uint8_t {
     kHeightMismatch,  ///< the refit plane is further than height_window_m from the expected one
     kDegenerate,      ///< the inliers span no area, or too short a range of distances
     kNoVelocity,      ///< the scan had no valid ego-velocity, so no static-point mask
+    kUneven,          ///< the residuals spread beyond max_residual_sigma_m: not one plane
+    kInconsistent,    ///< the filter refused it: innovation beyond max_innovation_chi2
+    kNoBaseHeight,    ///< the vehicle's base height is unknown (vehicle.base_height_m absent)
 };
 
 /// "" | "few_ground_points" | "no_plane" | "tilted" | "height_mismatch" | "degenerate" |
-/// "no_velocity".
+/// "no_velocity" | "uneven" | "inconsistent" | "no_base_height".
 [[nodiscard]] const char *ToString(GroundFallback reason);
 
 struct GroundObservation {

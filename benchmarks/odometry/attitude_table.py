@@ -1,0 +1,55 @@
+# /usr/bin/python3 benchmarks/odometry/attitude_table.py BENCH_OUT [RUN_SUBSTRING]: per sequence and run of a
+# `dorado bench` output, the roll / pitch / yaw drift [deg/min] (slope of a line fitted to the Euler ZYX angles of
+# R_gt^T R_align R_est, R_align the best constant rotation, against time) and the ATE rotation [deg] (RMS angle of
+# R_gt_rel^T R_est_rel, first pose aligned), as a
+# markdown table, then the same pooled (RMS over sequences) per run.
+import glob, os, sys
+import numpy as np
+from scipy.spatial.transform import Rotation as R, Slerp
+
+def load(p):
+    a = np.loadtxt(p, comments='#', ndmin=2)
+    return a[:, 0], R.from_quat(a[:, 4:8])
+
+def metrics(run_dir, seq_dir):
+    te, re = load(run_dir + '/trajectory.tum')
+    tg, rg = load(seq_dir + '/true_trajectory.tum')
+    m = (te >= tg[0]) & (te <= tg[-1])
+    te, re = te[m], re[m]
+    rgi = Slerp(tg, rg)(te)
+    err = (rgi[0].inv() * rgi).inv() * (re[0].inv() * re)
+    ate_rot = float(np.sqrt(np.mean(err.magnitude() ** 2)) * 180 / np.pi)
+    # The drift after the best constant rotation (an absolute attitude, as the ground's, is not
+    # penalised for the world frame it chose at the start): R_align = argmax trace, on SO(3).
+    M = sum((rgi[i] * re[i].inv()).as_matrix() for i in range(len(te)))
+    U, _, Vt = np.linalg.svd(M)
+    R_align = R.from_matrix(U @ np.diag([1, 1, np.linalg.det(U @ Vt)]) @ Vt)
+    ypr = np.unwrap((rgi.inv() * (R_align * re)).as_euler('ZYX'), axis=0) * 180 / np.pi
+    t_min = (te - te[0]) / 60.0
+    slope = [float(np.polyfit(t_min, ypr[:, k], 1)[0]) for k in range(3)]
+    return dict(roll=slope[2], pitch=slope[1], yaw=slope[0], ate_rot=ate_rot)
+
+out = sys.argv[1]
+want = sys.argv[2] if len(sys.argv) > 2 else ''
+rows = {}
+for run_dir in sorted(glob.glob(os.path.join(out, 'runs', '*', '*'))):
+    seq, run = run_dir.split(os.sep)[-2:]
+    if want not in run or not os.path.exists(run_dir + '/trajectory.tum'):
+        continue
+    rows.setdefault(run, {})[seq] = metrics(run_dir, os.path.join(out, 'data', seq))
+seqs = sorted({s for r in rows.values() for s in r})
+print('| sequence | run | roll deg/min | pitch deg/min | yaw deg/min | ATE rot deg |')
+print('|---|---|---|---|---|---|')
+for s in seqs:
+    for run in sorted(rows):
+        if s in rows[run]:
+            x = rows[run][s]
+            print(f"| {s} | {run} | {x['roll']:+.2f} | {x['pitch']:+.2f} | {x['yaw']:+.2f} | {x['ate_rot']:.2f} |")
+print()
+print('| run | roll RMS deg/min | pitch RMS deg/min | yaw RMS deg/min | ATE rot RMS deg | worst roll | worst pitch |')
+print('|---|---|---|---|---|---|---|')
+for run in sorted(rows):
+    v = rows[run].values()
+    q = lambda k: float(np.sqrt(np.mean([x[k] ** 2 for x in v])))
+    w = lambda k: max(abs(x[k]) for x in v)
+    print(f"| {run} | {q('roll'):.2f} | {q('pitch'):.2f} | {q('yaw'):.2f} | {q('ate_rot'):.2f} | {w('roll'):.2f} | {w('pitch'):.2f} |")
