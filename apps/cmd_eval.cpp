@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "dorado/eval/absolute_trajectory_error.hpp"
 #include "dorado/eval/association.hpp"
+#include "dorado/eval/kitti_drift.hpp"
 #include "dorado/eval/relative_pose_error.hpp"
 #include "dorado/io/atomic_file.hpp"
 #include "dorado/io/trajectory_io.hpp"
@@ -91,6 +92,10 @@ void RunEval(const EvalOptions &o) {
         ate_stats = eval::ComputeStatistics(ate->translation_m);
         PrintRow(o.sim3 ? "ate_sim3 [m]" : "ate_se3 [m]", ate_stats);
     }
+    const eval::DriftResult drift = eval::ComputeKittiDrift(poses);
+    if (drift.segments > 0)
+        std::printf("kitti_drift (100-800 m)  %.3f %% translation, %.3f deg/100 m rotation, %d segments\n",
+                    drift.translation_percent, drift.rotation_deg_per_100m, drift.segments);
     if (o.json_path.empty()) return;
     nlohmann::json j = {
         {"gt", o.gt_path},
@@ -104,6 +109,11 @@ void RunEval(const EvalOptions &o) {
         {"rpe_translation_m_per_pair", rpe.translation_m},
         {"rpe_rotation_deg_per_pair", rpe.rotation_deg},
     };
+    if (drift.segments > 0) {
+        j["kitti_drift"] = {{"translation_percent", drift.translation_percent},
+                            {"rotation_deg_per_100m", drift.rotation_deg_per_100m},
+                            {"segments", drift.segments}};
+    }
     if (ate) {
         j["ate_m"] = ToJson(ate_stats);
         j["ate_alignment"] = o.sim3 ? "sim3" : "se3";

@@ -1,5 +1,7 @@
 #include "scan_loop.hpp"
 
+#include <cstdio>
+
 #include "dorado/io/atomic_file.hpp"
 #include "dorado/mapping/motion_prior.hpp"
 
@@ -23,6 +25,15 @@ void ScanLoop::Run(io::DatasetReader &reader, StreamGuard &guard, Progress &prog
             continue;
         }
         Warn(event, result);
+        if (result.odometry.planar_detected) {
+            std::fprintf(stderr,
+                         "scan %zu: 2D radar (every z is 0): planar mode: the ego-velocity in the "
+                         "radar's plane (v_x, v_y), the yaw rate from the vehicle model, poses in "
+                         "SE(2) with z, roll and pitch held (set radar.geometry: planar in the "
+                         "dataset description to say so, 3d to refuse)\n",
+                         event.scan_index);
+        }
+        planar_ = planar_ || result.odometry.planar;
         nonfinite_points_ += event.removed_nonfinite_points;
         ++used_;
         on_scan(event, result);
@@ -65,6 +76,7 @@ void AddStreamCounts(const ScanLoop &loop, nlohmann::json &summary) {
     summary["warnings"] = loop.skips().WarningCounts();
     summary["warned"] = loop.skips().Warnings();
     summary["nonfinite_points_removed"] = loop.nonfinite_points();
+    if (loop.planar()) summary["radar_geometry"] = "planar";
 }
 
 void WriteSummary(const std::string &out_dir, const nlohmann::json &summary) {

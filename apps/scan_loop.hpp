@@ -33,6 +33,8 @@ class ScanLoop {
     [[nodiscard]] std::size_t scans() const { return scans_; }  ///< radar messages, read or not
     [[nodiscard]] std::size_t used() const { return used_; }    ///< accepted by the front end
     [[nodiscard]] long long nonfinite_points() const { return nonfinite_points_; }
+    /// Some scan went through the planar (2D radar) chain.
+    [[nodiscard]] bool planar() const { return planar_; }
 
   private:
     void Warn(const io::DatasetEvent &event, const frontend::FrontEndResult &result);
@@ -42,6 +44,7 @@ class ScanLoop {
     GapWatch gaps_;
     std::size_t scans_ = 0, used_ = 0;
     long long nonfinite_points_ = 0;
+    bool planar_ = false;
 };
 
 /// Whether the dataset has an IMU topic configured.

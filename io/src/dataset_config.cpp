@@ -117,6 +117,10 @@ RadarSensorModel ReadRadarSensor(YamlSection section) {
     read("azimuth_sigma_deg", radar.azimuth_sigma_deg, 20.0);
     read("elevation_sigma_deg", radar.elevation_sigma_deg, 20.0);
     read("doppler_unambiguous_mps", radar.doppler_unambiguous_mps, 1000.0);
+    section.ReadEnum("geometry", radar.geometry,
+                     {{"auto", ScanGeometry::kAuto},
+                      {"3d", ScanGeometry::k3d},
+                      {"planar", ScanGeometry::kPlanar}});
     section.RejectUnknownKeys();
     return radar;
 }
@@ -369,6 +373,7 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
     out << YAML::Key << "elevation_sigma_deg" << YAML::Value << config.radar.elevation_sigma_deg;
     out << YAML::Key << "doppler_unambiguous_mps" << YAML::Value
         << config.radar.doppler_unambiguous_mps;
+    out << YAML::Key << "geometry" << YAML::Value << ToString(config.radar.geometry);
     out << YAML::EndMap;
     out << YAML::EndMap;
     return std::string(out.c_str()) + "\n";

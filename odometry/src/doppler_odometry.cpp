@@ -81,7 +81,40 @@ DopplerOdometry::DopplerOdometry(DopplerOdometryConfig config, const Extrinsics 
           if (sigma > 0.0) ground.plane.elevation_sigma_deg = sigma;
           ground.plane.base_height_m = geometry.base_height_m;
           return ground;
-      }()) {}
+      }()),
+      planar_estimator_(config_.ego_velocity),
+      extrinsics_(extrinsics),
+      geometry_(geometry) {
+    const ScanGeometry kind = config_.ego_velocity.sensor.geometry;
+    geometry_decided_ = kind != ScanGeometry::kAuto;
+    planar_ = kind == ScanGeometry::kPlanar;
+    if (planar_) planar_model_.emplace(extrinsics, geometry);  // throws for s_x = 0
+}
+
+void DopplerOdometry::DecideGeometry(const RadarScan &scan_radar, OdometryStep &step) {
+    if (geometry_decided_ || scan_radar.size() < 3) return;
+    geometry_decided_ = true;
+    planar_ = IsPlanarScan(scan_radar);
+    step.planar_detected = planar_;
+    if (!planar_) return;
+    try {
+        planar_model_.emplace(extrinsics_, geometry_);
+    } catch (const std::invalid_argument &e) {
+        planar_model_error_ = e.what();
+    }
+}
+
+void DopplerOdometry::EstimatePlanar(const RadarScan &scan_radar, OdometryStep &step) {
+    step.planar = true;
+    step.ego = planar_estimator_.Estimate(scan_radar);
+    if (!planar_model_) {
+        step.ego.valid = false;
+        step.ego.reason = "no planar vehicle model: " + planar_model_error_;
+        return;
+    }
+    if (step.ego.valid && config_.method != OdometryMethod::kImu)
+        step.motion = planar_model_->Motion(step.ego.v_radar_mps, step.ego.cov_v_radar);
+}
 
 OdometryStep DopplerOdometry::Register(const RadarScan &scan_radar,
                                        const Eigen::Vector3d &gyro_base_radps) {
@@ -93,10 +126,15 @@ OdometryStep DopplerOdometry::Register(const RadarScan &scan_radar,
         step.T_world_base = T_world_base_;
         return step;
     }
-    // Also for kImu: its `stationary` flag lets the front end estimate the gyro bias at rest.
-    step.ego = estimator_.Estimate(scan_radar);
-    if (step.ego.valid && config_.method != OdometryMethod::kImu)
-        step.motion = model_.Motion(step.ego.v_radar_mps, step.ego.cov_v_radar);
+    DecideGeometry(scan_radar, step);
+    if (planar_) {
+        EstimatePlanar(scan_radar, step);
+    } else {
+        // Also for kImu: its `stationary` flag lets the front end estimate the gyro bias at rest.
+        step.ego = estimator_.Estimate(scan_radar);
+        if (step.ego.valid && config_.method != OdometryMethod::kImu)
+            step.motion = model_.Motion(step.ego.v_radar_mps, step.ego.cov_v_radar);
+    }
     ChooseTwist(gyro_base_radps, step);
 
     step.dt_s =
@@ -108,7 +146,7 @@ OdometryStep DopplerOdometry::Register(const RadarScan &scan_radar,
     // body-frame twist integrated over dt.
     if (step.dt_s > 0.0) T_world_base_ = T_world_base_ * ExpSE3(xi);
     T_world_base_.linear() = ExpSO3(LogSO3(T_world_base_.linear()));  // keep R orthonormal
-    if (config_.ground.enabled) CorrectAttitude(scan_radar, step);
+    if (config_.ground.enabled && !planar_) CorrectAttitude(scan_radar, step);
     trajectory_.Append(scan_radar.stamp_ns, T_world_base_);
     step.T_world_base = T_world_base_;
     step.integrated = true;
@@ -178,7 +216,8 @@ void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, Odomet
     covariance << step.motion.cov_v_base, step.motion.cov_v_omega_base,
         step.motion.cov_v_omega_base.transpose(), step.motion.cov_omega_base;
     covariance += step.motion.cov_model;
-    if (config_.angular_rate_prior && model_.constrained()) {
+    // The angular-rate prior is the 3-D model's (roll and pitch rates): not for the planar chain.
+    if (config_.angular_rate_prior && model_.constrained() && !step.planar) {
         const VehicleTwist plausible = model_.PlausibleTwist(step.motion);
         v_base = plausible.v_base_mps;
         omega_base = plausible.omega_base_radps;
@@ -195,10 +234,15 @@ void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, Odomet
             Eigen::Matrix<double, 6, 6> gyro_covariance = Eigen::Matrix<double, 6, 6>::Zero();
             gyro_covariance.topLeftCorner<3, 3>() = step.motion.cov_v_base;
             gyro_covariance.bottomRightCorner<3, 3>() = step.motion.cov_omega_base;
+            if (step.planar) {  // in the plane: the gyro's yaw rate only
+                const Eigen::Vector3d omega(0.0, 0.0, gyro_base_radps.z());
+                return accept(planar_model_->BaseVelocity(step.ego.v_radar_mps, omega.z()), omega,
+                              gyro_covariance);
+            }
             return accept(model_.BaseVelocity(step.ego.v_radar_mps, gyro_base_radps),
                           gyro_base_radps, gyro_covariance);
         }
-        if (!model_.constrained())
+        if (!model_.constrained() || (step.planar && !planar_model_->constrained()))
             return fallback(FallbackCause::kNoImuSamples,
                             "no IMU samples in the interval (an unconstrained platform has no "
                             "rotation without the gyro)");

@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "dorado/core/extrinsics.hpp"
@@ -13,6 +14,8 @@
 #include "dorado/odometry/ego_velocity.hpp"
 #include "dorado/odometry/ground_attitude.hpp"
 #include "dorado/odometry/kinematic_model.hpp"
+#include "dorado/odometry/planar_ego_velocity.hpp"
+#include "dorado/odometry/planar_kinematic_model.hpp"
 
 namespace dorado::odometry {
 
@@ -87,6 +90,11 @@ struct OdometryStep {
     /// The ground-plane attitude update (when config.ground.enabled and the scan was integrated);
     /// ground.observation.fallback names why a scan gave no ground.
     GroundAttitudeStep ground;
+    /// The scan went through the planar chain (a 2D radar: ego-velocity in the plane, yaw rate
+    /// from PlanarKinematicModel, z, roll and pitch held).
+    bool planar = false;
+    /// ScanGeometry::kAuto decided on this scan that the radar is 2D (every z is 0): once.
+    bool planar_detected = false;
 };
 
 class DopplerOdometry {
@@ -124,6 +132,10 @@ class DopplerOdometry {
     void ChooseTwist(const Eigen::Vector3d &gyro_base_radps, OdometryStep &step);
     // Fits the ground to the scan's static points and corrects roll and pitch with it.
     void CorrectAttitude(const RadarScan &scan_radar, OdometryStep &step);
+    // ScanGeometry::kAuto: decides 2D or 3-D at the first scan with points.
+    void DecideGeometry(const RadarScan &scan_radar, OdometryStep &step);
+    // The planar chain's ego-velocity and motion (planar_ego_velocity.hpp, eq. 5 in the plane).
+    void EstimatePlanar(const RadarScan &scan_radar, OdometryStep &step);
 
     DopplerOdometryConfig config_;
     EgoVelocityEstimator estimator_;
@@ -138,6 +150,15 @@ class DopplerOdometry {
     bool has_last_twist_ = false;
     Eigen::Vector3d last_v_base_ = Eigen::Vector3d::Zero();
     Eigen::Vector3d last_omega_base_ = Eigen::Vector3d::Zero();
+    // The planar chain (a 2D radar): chosen by ego_velocity.sensor.geometry, or at the first
+    // scan when it is kAuto.
+    PlanarEgoVelocityEstimator planar_estimator_;
+    std::optional<PlanarKinematicModel> planar_model_;
+    std::string planar_model_error_;  ///< why planar_model_ could not be built (auto mode)
+    bool planar_ = false;
+    bool geometry_decided_ = false;
+    Extrinsics extrinsics_;
+    VehicleGeometry geometry_;
 };
 
 }  // namespace dorado::odometry
