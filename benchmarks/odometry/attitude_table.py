@@ -2,8 +2,8 @@
 # `dorado bench` output, the roll / pitch / yaw drift [deg/min] (slope of a line fitted to the Euler ZYX angles of
 # R_gt^T R_align R_est, R_align the best constant rotation, against time) and the ATE rotation [deg] (RMS angle of
 # R_gt_rel^T R_est_rel, first pose aligned), as a
-# markdown table, then the same pooled (RMS over sequences) per run.
-import glob, os, sys
+# markdown table with the ATE [m], then the same pooled (RMS over sequences) per run.
+import glob, json, os, subprocess, sys
 import numpy as np
 from scipy.spatial.transform import Rotation as R, Slerp
 
@@ -27,7 +27,11 @@ def metrics(run_dir, seq_dir):
     ypr = np.unwrap((rgi.inv() * (R_align * re)).as_euler('ZYX'), axis=0) * 180 / np.pi
     t_min = (te - te[0]) / 60.0
     slope = [float(np.polyfit(t_min, ypr[:, k], 1)[0]) for k in range(3)]
-    return dict(roll=slope[2], pitch=slope[1], yaw=slope[0], ate_rot=ate_rot)
+    # ATE (translation, SE(3)-aligned) from `dorado eval` (DORADO=path, default build/apps/dorado).
+    subprocess.run([os.environ.get('DORADO', 'build/apps/dorado'), 'eval', '--gt', seq_dir + '/true_trajectory.tum',
+                    '--est', run_dir + '/trajectory.tum', '--json', run_dir + '/attitude_eval.json'], capture_output=True)
+    ate = json.load(open(run_dir + '/attitude_eval.json'))['ate_m']['rmse']
+    return dict(roll=slope[2], pitch=slope[1], yaw=slope[0], ate_rot=ate_rot, ate=ate)
 
 out = sys.argv[1]
 want = sys.argv[2] if len(sys.argv) > 2 else ''
@@ -38,18 +42,18 @@ for run_dir in sorted(glob.glob(os.path.join(out, 'runs', '*', '*'))):
         continue
     rows.setdefault(run, {})[seq] = metrics(run_dir, os.path.join(out, 'data', seq))
 seqs = sorted({s for r in rows.values() for s in r})
-print('| sequence | run | roll deg/min | pitch deg/min | yaw deg/min | ATE rot deg |')
-print('|---|---|---|---|---|---|')
+print('| sequence | run | roll deg/min | pitch deg/min | yaw deg/min | ATE rot deg | ATE m |')
+print('|---|---|---|---|---|---|---|')
 for s in seqs:
     for run in sorted(rows):
         if s in rows[run]:
             x = rows[run][s]
-            print(f"| {s} | {run} | {x['roll']:+.2f} | {x['pitch']:+.2f} | {x['yaw']:+.2f} | {x['ate_rot']:.2f} |")
+            print(f"| {s} | {run} | {x['roll']:+.2f} | {x['pitch']:+.2f} | {x['yaw']:+.2f} | {x['ate_rot']:.2f} | {x['ate']:.3f} |")
 print()
-print('| run | roll RMS deg/min | pitch RMS deg/min | yaw RMS deg/min | ATE rot RMS deg | worst roll | worst pitch |')
-print('|---|---|---|---|---|---|---|')
+print('| run | roll RMS deg/min | pitch RMS deg/min | yaw RMS deg/min | ATE rot RMS deg | ATE RMS m | worst roll | worst pitch |')
+print('|---|---|---|---|---|---|---|---|')
 for run in sorted(rows):
     v = rows[run].values()
     q = lambda k: float(np.sqrt(np.mean([x[k] ** 2 for x in v])))
     w = lambda k: max(abs(x[k]) for x in v)
-    print(f"| {run} | {q('roll'):.2f} | {q('pitch'):.2f} | {q('yaw'):.2f} | {q('ate_rot'):.2f} | {w('roll'):.2f} | {w('pitch'):.2f} |")
+    print(f"| {run} | {q('roll'):.2f} | {q('pitch'):.2f} | {q('yaw'):.2f} | {q('ate_rot'):.2f} | {q('ate'):.3f} | {w('roll'):.2f} | {w('pitch'):.2f} |")

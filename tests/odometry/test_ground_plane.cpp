@@ -79,18 +79,22 @@ TEST(GroundPlane, TiltedRoadWithOutliersGivesItsRollAndPitch) {
 
 TEST(GroundPlane, UnevenGroundAndUnknownHeightAreNamedFallbacks) {
     GroundPlaneConfig config = Plane();
-    config.max_residual_sigma_m = 0.06;  // the flat road's residual is ~0.03 m here
+    config.max_residual_sigma_m = 0.04;  // flat road: 0.024 m here, the ridged one 0.052 m
     Road road;
     road.outlier_fraction = 0.0;
     road.noise_scale = 0.3;
     Eigen::Matrix3Xd points = MakeRoad(road, config, 5);
-    ASSERT_TRUE(FitGroundPlane(config, points, std::vector<bool>(points.cols(), true)).valid);
+    const GroundObservation flat =
+        FitGroundPlane(config, points, std::vector<bool>(points.cols(), true));
+    ASSERT_TRUE(flat.valid) << ToString(flat.fallback) << " " << flat.residual_sigma_m;
     // Ridges across the road (0.12 m, 4 m wavelength sideways): no one plane fits it.
     for (Eigen::Index i = 0; i < points.cols(); ++i)
         points(2, i) += 0.12 * std::sin(2.0 * M_PI * points(1, i) / 4.0);
     const GroundObservation uneven =
         FitGroundPlane(config, points, std::vector<bool>(points.cols(), true));
-    EXPECT_EQ(uneven.fallback, GroundFallback::kUneven) << ToString(uneven.fallback);
+    EXPECT_EQ(uneven.fallback, GroundFallback::kUneven)
+        << ToString(uneven.fallback) << " " << uneven.residual_sigma_m << " (flat "
+        << flat.residual_sigma_m << ")";
     EXPECT_STREQ(ToString(GroundFallback::kUneven), "uneven");
     GroundPlaneConfig unknown = config;
     unknown.base_height_m = std::numeric_limits<double>::quiet_NaN();
@@ -112,6 +116,7 @@ TEST(GroundPlane, FilterRefusesAnObservationInconsistentWithItsPrediction) {
     filter.Predict(Eigen::Matrix3d::Identity() * std::pow(1.0 * kDeg, 2), 0.1);
     // 20 deg of roll after 0.1 s: a kerb under one side, not the vehicle's attitude.
     obs.roll_pitch_rad << 20.0 * kDeg, 0.0;
+    step = GroundAttitudeStep{};
     filter.Update(obs, 0.1, T, step);
     EXPECT_FALSE(step.updated);
     EXPECT_EQ(step.observation.fallback, GroundFallback::kInconsistent);
@@ -119,6 +124,7 @@ TEST(GroundPlane, FilterRefusesAnObservationInconsistentWithItsPrediction) {
     EXPECT_NEAR(RollPitchYaw(T.linear()).x(), 0.0, 1e-12);
     // 2 deg is within the road's slope: used.
     obs.roll_pitch_rad << 2.0 * kDeg, 0.0;
+    step = GroundAttitudeStep{};
     filter.Update(obs, 0.1, T, step);
     EXPECT_TRUE(step.updated);
     EXPECT_GT(RollPitchYaw(T.linear()).x(), 0.0);
