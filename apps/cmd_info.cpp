@@ -213,17 +213,20 @@ int RunInfo(const std::string &dataset_arg) {
                     *std::max_element(points.begin(), points.end()));
         std::printf("  doppler: %.2f .. %.2f m/s\n", min_doppler, max_doppler);
         if (scans_with_points > 0 && planar_scans == scans_with_points) {
-            std::printf(
-                "  2D radar (every z is 0): no elevation. radar.geometry %s: the ego-velocity "
-                "is fitted in the plane (v_x, v_y), the yaw rate comes from the vehicle model "
-                "(or a gyro), poses are SE(2) with z, roll and pitch held, and dorado map "
-                "registers x, y and yaw only%s\n",
-                config.radar.geometry == ScanGeometry::k3d ? "3d refuses every scan (set planar "
-                                                             "or auto)"
-                                                           : "planar/auto applies",
-                config.vehicle.model == VehicleModel::kUnconstrained
-                    ? " (vehicle.model unconstrained: the yaw rate needs the gyro)"
-                    : "");
+            if (config.radar.geometry == ScanGeometry::k3d)
+                std::printf(
+                    "  2D radar (every z is 0): no elevation, but radar.geometry is 3d, which "
+                    "refuses every scan (the directions do not span 3-D): set planar or auto\n");
+            else
+                std::printf(
+                    "  2D radar (every z is 0): no elevation (radar.geometry %s). The "
+                    "ego-velocity is fitted in the plane (v_x, v_y), the yaw rate comes from the "
+                    "vehicle model%s, poses are SE(2) with z, roll and pitch held, and dorado map "
+                    "registers x, y and yaw only\n",
+                    ToString(config.radar.geometry),
+                    config.vehicle.model == VehicleModel::kUnconstrained
+                        ? " (unconstrained here: from the gyro only)"
+                        : " (or a gyro)");
         } else if (planar_scans > 0) {
             std::printf("  scans with every z = 0: %zu of %zu (a 2D radar's would be all)\n",
                         planar_scans, scans_with_points);

@@ -133,6 +133,8 @@ OdometryStep DopplerOdometry::Register(const RadarScan &scan_radar,
     } else {
         // Also for kImu: its `stationary` flag lets the front end estimate the gyro bias at rest.
         step.ego = estimator_.Estimate(scan_radar);
+        if (!step.ego.valid && IsPlanarScan(scan_radar))  // radar.geometry 3d on a 2D radar
+            step.ego.reason += " (every z is 0: a 2D radar; set radar.geometry planar or auto)";
         if (step.ego.valid && config_.method != OdometryMethod::kImu) {
             // The vehicle constraint (off by default): the base's lateral and vertical velocity
             // through eq. (5)'s model, v_base = J_v v_radar.

@@ -80,20 +80,26 @@ double FinalHeight(bool constrained) {
     VehicleGeometry geometry;
     geometry.half_wheelbase_m = 1.35;
     geometry.velocity_prior.enabled = constrained;
-    geometry.velocity_prior.sigma_vertical_mps = 0.05;
+    geometry.velocity_prior.sigma_vertical_mps = 0.01;
     DopplerOdometryConfig config;
     config.ego_velocity.sensor.geometry = ScanGeometry::k3d;
     DopplerOdometry odometry(config, e, geometry);
     const Eigen::Vector3d v_radar(15.0, 0.0, 0.0);  // no rotation: the radar moves as the base
     OdometryStep step;
-    for (int k = 0; k <= 100; ++k) {
+    double v_z_sum = 0.0;
+    const int scans = 100;
+    for (int k = 0; k <= scans; ++k) {
         RadarScan scan = BiasedElevationScan(v_radar, 2.0 * M_PI / 180.0, 1000 + k);
         scan.stamp_ns = k * 100'000'000LL;
         step = odometry.Register(scan);
         EXPECT_TRUE(step.ego.valid) << step.ego.reason;
-        // The bias the estimator cannot see: v_z = 15 sin(2 deg) = 0.52 m/s.
-        EXPECT_NEAR(step.ego.v_radar_mps.z(), 15.0 * std::sin(2.0 * M_PI / 180.0), 0.25);
+        v_z_sum += step.ego.v_radar_mps.z();
     }
+    // The bias the estimator cannot see: about 15 sin(2 deg) = 0.52 m/s of v_z (less off the
+    // boresight, where a shifted elevation is not a rotation of the direction).
+    const double v_z_mean = v_z_sum / (scans + 1);
+    EXPECT_GT(v_z_mean, 0.3);
+    EXPECT_LT(v_z_mean, 0.6);
     return step.T_world_base.translation().z();
 }
 
@@ -103,8 +109,9 @@ TEST(VehicleVelocityPrior, BiasedElevationMakesTheUnconstrainedCarClimbButNotThe
     const double z_free = FinalHeight(false);
     const double z_held = FinalHeight(true);
     EXPECT_GT(std::abs(z_free), 5.0) << z_free;
-    // Constrained: the scan's own v_z variance (~0.1 m/s with +-3 deg of elevation) loses to the
-    // prior's 0.05 m/s, and v_z ~ 0 implies no pitch rate either.
+    // Constrained: the scan's own v_z variance (its covariance says ~0.05 m/s with +-3 deg of
+    // elevation; the bias does not show in it) loses to the prior's 0.01 m/s, and v_z ~ 0 implies
+    // no pitch rate either. (With 0.05 m/s the climb is only about halved: a soft prior.)
     EXPECT_LT(std::abs(z_held), 0.1 * std::abs(z_free)) << z_held << " vs " << z_free;
 }
 
