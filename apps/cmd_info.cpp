@@ -123,6 +123,7 @@ int RunInfo(const std::string &dataset_arg) {
     const bool has_imu_topic = is_bag && !config.rosbag.imu_topic.empty();
     int64_t first_ns = 0, last_ns = 0, last_imu_ns = INT64_MIN;
     double min_doppler = 0.0, max_doppler = 0.0;
+    std::size_t scans_with_points = 0, planar_scans = 0;  // every z exactly 0: a 2D radar's
     io::DatasetEvent event;
     while (reader->Next(event)) {
         switch (event.kind) {
@@ -183,6 +184,8 @@ int RunInfo(const std::string &dataset_arg) {
                 if (!event.scan.has_power)
                     problems.Add("scans without a power field (unit weights)", where);
                 if (!event.scan.empty()) {
+                    ++scans_with_points;
+                    planar_scans += (event.scan.xyz_radar.row(2).array() == 0.0).all();
                     min_doppler = std::min(min_doppler, event.scan.doppler_mps.minCoeff());
                     max_doppler = std::max(max_doppler, event.scan.doppler_mps.maxCoeff());
                 }
@@ -209,6 +212,25 @@ int RunInfo(const std::string &dataset_arg) {
                     *std::min_element(points.begin(), points.end()), Median(points),
                     *std::max_element(points.begin(), points.end()));
         std::printf("  doppler: %.2f .. %.2f m/s\n", min_doppler, max_doppler);
+        if (scans_with_points > 0 && planar_scans == scans_with_points) {
+            if (config.radar.geometry == ScanGeometry::k3d)
+                std::printf(
+                    "  2D radar (every z is 0): no elevation, but radar.geometry is 3d, which "
+                    "refuses every scan (the directions do not span 3-D): set planar or auto\n");
+            else
+                std::printf(
+                    "  2D radar (every z is 0): no elevation (radar.geometry %s). The "
+                    "ego-velocity is fitted in the plane (v_x, v_y), the yaw rate comes from the "
+                    "vehicle model%s, poses are SE(2) with z, roll and pitch held, and dorado map "
+                    "registers x, y and yaw only\n",
+                    ToString(config.radar.geometry),
+                    config.vehicle.model == VehicleModel::kUnconstrained
+                        ? " (unconstrained here: from the gyro only)"
+                        : " (or a gyro)");
+        } else if (planar_scans > 0) {
+            std::printf("  scans with every z = 0: %zu of %zu (a 2D radar's would be all)\n",
+                        planar_scans, scans_with_points);
+        }
         if (median_ms > 0) {
             for (std::size_t i = 0; i < intervals_ms.size(); ++i) {
                 if (intervals_ms[i] > 5.0 * median_ms) {

@@ -151,6 +151,7 @@ void RunOdometry(const OdometryOptions &opt) {
     std::string csv = kCsvHeader;
     std::vector<double> times_ms, inlier_ratios;
     std::map<std::string, int> invalid_reasons, fallback_causes;
+    std::map<std::string, std::string> first_invalid;  // each kind's first, reported once
     std::size_t fallbacks = 0, zero_velocity_updates = 0;
     std::size_t ground_scans = 0;
     std::map<std::string, int> ground_fallbacks;
@@ -169,7 +170,10 @@ void RunOdometry(const OdometryOptions &opt) {
                  }
                  times_ms.push_back(result.times.total_ms);
                  if (!step.ego.valid && method != odometry::OdometryMethod::kImu) {
-                     invalid_reasons[step.ego.reason.substr(0, step.ego.reason.find(':'))]++;
+                     const std::string kind = step.ego.reason.substr(0, step.ego.reason.find(':'));
+                     if (invalid_reasons[kind]++ == 0)
+                         first_invalid[kind] = "scan " + std::to_string(event.scan_index) + ": " +
+                                               step.ego.reason;
                  } else if (step.ego.points_used > 0) {
                      inlier_ratios.push_back(static_cast<double>(step.ego.inliers) /
                                              step.ego.points_used);
@@ -210,6 +214,9 @@ void RunOdometry(const OdometryOptions &opt) {
                  loop.scans(), loop.used(), fallbacks, CauseList(fallback_causes).c_str(),
                  times_ms.empty() ? 0.0 : summary["time_per_scan_ms"]["mean"].get<double>(),
                  front_end.trajectory().PathLength(), opt.out.c_str());
+    for (const auto &[kind, count] : invalid_reasons)  // each cause once, not once per scan
+        std::fprintf(stderr, "odometry: no valid velocity on %d scans (%s); the first, %s\n", count,
+                     kind.c_str(), first_invalid[kind].c_str());
     guard.ThrowIfStopped("odometry", loop.scans(), opt.out);
 }
 

@@ -71,10 +71,21 @@ void WriteBirdsEyeImage(const std::string &path, const Eigen::Matrix3Xd &map_poi
     std::vector<Eigen::Index> order(map_points_world.cols());
     for (Eigen::Index i = 0; i < map_points_world.cols(); ++i) order[i] = i;
     std::sort(order.begin(), order.end(), [&](auto a, auto b) { return z[a] < z[b]; });
+    // A sparse map (a real radar's few thousand points) as discs, so that it stays legible; a dense
+    // one (>= kDensePoints) point by point as before. The colours' dark half for contrast on white.
+    constexpr Eigen::Index kDensePoints = 20000;
+    const Eigen::Index n = map_points_world.cols();
+    const int radius = n >= kDensePoints ? 0 : n >= 5000 ? 1 : 2;
+    const double colour_span = radius == 0 ? 1.0 : 0.6;
     for (const auto i : order) {
         const cv::Point q = pixel(map_points_world.col(i));
         if (q.x < 0 || q.y < 0 || q.x >= width || q.y >= height) continue;
-        image(q) = ColourOf((z[i] - z_lo) / (z_hi - z_lo), cv::COLORMAP_VIRIDIS);
+        const cv::Vec3b c =
+            ColourOf(colour_span * (z[i] - z_lo) / (z_hi - z_lo), cv::COLORMAP_VIRIDIS);
+        if (radius == 0)
+            image(q) = c;
+        else
+            cv::circle(image, q, radius, cv::Scalar(c[0], c[1], c[2]), cv::FILLED);
     }
     // Trajectory coloured by time.
     for (std::size_t k = 1; k < trajectory_world.size(); ++k) {

@@ -115,6 +115,15 @@ def main():
     path = np.sum(np.linalg.norm(np.diff(p_ref[(t_ref >= t_est[0]) & (t_ref <= t_est[-1])], axis=0), axis=1))
     row = {"ate_m": ev["ate_m"]["rmse"], "rpe_t_m": ev["rpe_translation_m"]["rmse"],
            "rpe_r_deg": ev["rpe_rotation_deg"]["rmse"], "path_m": path}
+    # End-point error with the first poses made to coincide (SE(2)), in % of the reference path.
+    yaw_est = read_tum(est)[2]
+    i0 = np.searchsorted(t_ref, t_est[0])
+    p0, y0 = np.array([np.interp(t_est[0], t_ref, p_ref[:, k]) for k in (0, 1)]), np.interp(t_est[0], t_ref, yaw_ref)
+    p1 = np.array([np.interp(t_est[-1], t_ref, p_ref[:, k]) for k in (0, 1)])
+    def rot(a):
+        return np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+    end_est = p0 + rot(y0) @ rot(-yaw_est[0]) @ (p_est[-1] - p_est[0])
+    row["end_pct"] = 100.0 * np.linalg.norm(end_est - p1) / max(path, 1e-9)
     drift = ev.get("kitti_drift", {})
     row["drift_pct"] = drift.get("translation_percent", float("nan"))
     row["drift_deg100"] = drift.get("rotation_deg_per_100m", float("nan"))
@@ -139,11 +148,29 @@ def main():
             m = mask_scores(config_dir, config, args.run_dir, args.labels, t, v_radar_ref)
             row["mask_label"] = "%.3f / %.3f" % m["label"][:2]
             row["mask_ref"] = "%.3f / %.3f" % m["reference"][:2]
-    cols = ["path_m", "valid", "ate_m", "rpe_t_m", "rpe_r_deg", "drift_pct", "drift_deg100", "v_rmse",
-            "w_rmse_dps", "mask_label", "mask_ref"]
+    twist_path = os.path.join(args.run_dir, "twist.csv")
+    if os.path.exists(twist_path):  # dorado twist: the joint twist and the first radar's kinematic one
+        v = np.genfromtxt(twist_path, delimiter=",", names=True)
+        t = v["t"]
+        v_ref, w_ref = reference_twist(t_ref, p_ref, yaw_ref, t)
+        ok = v["valid"] == 1
+        row["valid"] = "%d/%d" % (ok.sum(), len(ok))
+        row["v_rmse"] = np.sqrt(np.mean((v["v_x"] - v_ref[:, 0])[ok] ** 2 + (v["v_y"] - v_ref[:, 1])[ok] ** 2))
+        row["w_rmse_dps"] = np.degrees(np.sqrt(np.mean((v["omega_z"] - w_ref)[ok] ** 2)))
+        kin = v["kinematic_valid"] == 1
+        row["w_rmse_kin_dps"] = np.degrees(np.sqrt(np.mean((v["kinematic_omega_z"] - w_ref)[kin] ** 2)))
+        both = ok & kin
+        row["w_rmse_pair"] = "%.3f / %.3f (%d)" % (
+            np.degrees(np.sqrt(np.mean((v["omega_z"] - w_ref)[both] ** 2))),
+            np.degrees(np.sqrt(np.mean((v["kinematic_omega_z"] - w_ref)[both] ** 2))), both.sum())
+    cols = ["path_m", "valid", "ate_m", "rpe_t_m", "rpe_r_deg", "drift_pct", "drift_deg100", "end_pct",
+            "v_rmse", "w_rmse_dps", "mask_label", "mask_ref"]
     heads = ["path [m]", "valid", "ATE [m]", "RPE 1 s [m]", "RPE 1 s [deg]", "drift [%]",
-             "drift [deg/100 m]", "v RMSE [m/s]", "yaw rate RMSE [deg/s]",
+             "drift [deg/100 m]", "end [% path]", "v RMSE [m/s]", "yaw rate RMSE [deg/s]",
              "moving P / R (label)", "moving P / R (reference)"]
+    if "w_rmse_pair" in row:
+        cols.append("w_rmse_pair")
+        heads.append("yaw rate RMSE joint / kinematic, same scans [deg/s]")
     if args.header:
         print("| run | " + " | ".join(heads) + " |")
         print("|---|" + "---:|" * len(heads))

@@ -235,6 +235,7 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
                                   result.prior.T_world_base, ground);
         }
         result.times.prior_ms = MillisecondsSince(t_prior);
+        if (step.planar && !s.mapper->planar()) s.mapper->SetPlanar();  // a 2D radar
         // The gyro feeds the window smoother when the prior is an IMU one.
         const bool gyro = mapping::NeedsImu(s.config.prior) && gyro_base.allFinite();
         result.registration =

@@ -104,6 +104,21 @@ KinematicModelNoise ReadModelNoise(YamlSection section) {
     return noise;
 }
 
+// vehicle.velocity_prior: enabled, and the two spreads (> 0).
+VehicleVelocityPrior ReadVelocityPrior(YamlSection section) {
+    VehicleVelocityPrior prior;
+    prior.enabled = section.Get<bool>("enabled", prior.enabled);
+    const auto read = [&section](const char *key, double &value) {
+        value = section.Get<double>(key, value);
+        if (!(std::isfinite(value) && value > 0.0))
+            section.Fail(key, "must be a number > 0, got " + std::to_string(value));
+    };
+    read("sigma_lateral_mps", prior.sigma_lateral_mps);
+    read("sigma_vertical_mps", prior.sigma_vertical_mps);
+    section.RejectUnknownKeys();
+    return prior;
+}
+
 // radar: the sensor's 1-sigma noise and Doppler ambiguity, each finite and >= 0.
 RadarSensorModel ReadRadarSensor(YamlSection section) {
     RadarSensorModel radar;
@@ -127,9 +142,21 @@ RadarSensorModel ReadRadarSensor(YamlSection section) {
 
 }  // namespace
 
+DatasetConfig ForRadar(const DatasetConfig &config, std::size_t index) {
+    const RadarStream &radar = config.radars.at(index);
+    DatasetConfig one = config;
+    one.name = config.name + "/" + radar.name;
+    one.folder.scans_dir = radar.scans_dir;
+    one.folder.timestamps_file = radar.timestamps_file;
+    one.extrinsics.T_base_radar = radar.T_base_radar;
+    one.radars.clear();
+    return one;
+}
+
 DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
     const fs::path base_dir = fs::absolute(yaml_path).parent_path();
-    YamlSection top(LoadYamlFile(yaml_path), yaml_path);
+    const YAML::Node root = LoadYamlFile(yaml_path);
+    YamlSection top(root, yaml_path);
     DatasetConfig config;
     config.config_path = yaml_path;
     config.name = top.Get<std::string>("name", fs::path(yaml_path).stem().string());
@@ -221,8 +248,34 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
         if (!(config.vehicle.base_height_m > 0.0 && config.vehicle.base_height_m < 10.0))
             vehicle.Fail("base_height_m", "must be a height above the road in (0, 10) m");
     }
+    config.vehicle.velocity_prior = ReadVelocityPrior(vehicle.Child("velocity_prior"));
+    if (config.vehicle.velocity_prior.enabled &&
+        config.vehicle.model == VehicleModel::kUnconstrained)
+        vehicle.Fail("velocity_prior.enabled",
+                     "a ground vehicle's constraint: not with model unconstrained (hand-held, "
+                     "aerial, legged platforms move sideways and vertically)");
     vehicle.RejectUnknownKeys();
     config.radar = ReadRadarSensor(top.Child("radar"));
+
+    if (top.Has("radars")) {  // several radars: a list of {name, scans_dir, timestamps_file, T_base_radar}
+        const YAML::Node list = root["radars"];
+        if (!list.IsSequence()) top.Fail("radars", "must be a list of radars");
+        if (config.reader != ReaderKind::kFolder) top.Fail("radars", "needs reader: folder");
+        for (std::size_t k = 0; k < list.size(); ++k) {
+            YamlSection item(list[k], yaml_path, "radars[" + std::to_string(k) + "]");
+            RadarStream radar;
+            radar.name = item.Get<std::string>("name", "radar" + std::to_string(k));
+            radar.scans_dir = ResolvePath(item.Get<std::string>("scans_dir", ""), base_dir);
+            radar.timestamps_file =
+                ResolvePath(item.Get<std::string>("timestamps_file", ""), base_dir);
+            if (radar.scans_dir.empty()) item.Fail("scans_dir", "is required");
+            if (radar.timestamps_file.empty()) item.Fail("timestamps_file", "is required");
+            if (!item.Has("T_base_radar")) item.Fail("T_base_radar", "is required (the mount)");
+            radar.T_base_radar = ReadTransform(item.Child("T_base_radar"));
+            item.RejectUnknownKeys();
+            config.radars.push_back(radar);
+        }
+    }
 
     top.RejectUnknownKeys();
     return config;
@@ -357,6 +410,14 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
     out << YAML::Key << "half_wheelbase_m" << YAML::Value << config.vehicle.half_wheelbase_m;
     if (std::isfinite(config.vehicle.base_height_m))
         out << YAML::Key << "base_height_m" << YAML::Value << config.vehicle.base_height_m;
+    const VehicleVelocityPrior &prior = config.vehicle.velocity_prior;
+    if (prior.enabled) {  // written only when on: the simulator's descriptions stay as they were
+        out << YAML::Key << "velocity_prior" << YAML::Value << YAML::BeginMap;
+        out << YAML::Key << "enabled" << YAML::Value << true;
+        out << YAML::Key << "sigma_lateral_mps" << YAML::Value << prior.sigma_lateral_mps;
+        out << YAML::Key << "sigma_vertical_mps" << YAML::Value << prior.sigma_vertical_mps;
+        out << YAML::EndMap;
+    }
     const KinematicModelNoise &noise = config.vehicle.model_noise;
     out << YAML::Key << "model_noise" << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "sigma_icr_x_m" << YAML::Value << noise.sigma_icr_x_m;

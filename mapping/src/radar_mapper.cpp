@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "dorado/mapping/adaptive_threshold.hpp"
+#include "planar_registration.hpp"
 #include "pose_information.hpp"
 #include "registration.hpp"
 #include "robust_loss.hpp"
@@ -109,6 +110,7 @@ struct RadarMapper::State {
     Eigen::Isometry3d T_world_base_last_keyframe = Eigen::Isometry3d::Identity();
     int fallbacks = 0;
     std::optional<WindowSmoother> window;  ///< refinement = kWindow
+    bool planar = false;                   ///< a 2D radar: registration in the plane
 
     State(const MapperConfig &c, const Extrinsics &e, const VehicleGeometry &g)
         : config(c),
@@ -159,6 +161,16 @@ const MapperConfig &RadarMapper::config() const {
 }
 int RadarMapper::fallbacks() const {
     return state_->fallbacks;
+}
+void RadarMapper::SetPlanar() {
+    if (state_->window)
+        throw std::invalid_argument(
+            "refinement window: not for a 2D radar (planar mode registers x, y and yaw); use "
+            "refinement ceres or none");
+    state_->planar = true;
+}
+bool RadarMapper::planar() const {
+    return state_->planar;
 }
 
 const char *ToString(FallbackCause cause) {
@@ -386,6 +398,25 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
     } else if (result.source_points < config.min_correspondences) {
         result.fallback_cause = FallbackCause::kTooFewPoints;
         result.fallback_detail = std::to_string(result.source_points);
+    } else if (s.planar) {  // a 2D radar: x, y and yaw (planar_registration.cpp)
+        const PlanarRegistration reg =
+            RegisterPlanar(source_base, prior_map, prior, s.map, config, result.threshold_m);
+        result.fallback_cause = reg.cause;
+        result.fallback_detail = reg.detail;
+        result.observability = reg.observability;
+        result.prior_mahalanobis_squared = reg.prior_mahalanobis_squared;
+        result.correspondences = reg.count;
+        result.fitness_rms_m = reg.rms_m;
+        result.times.alignment_ms = reg.alignment_ms;
+        result.times.registration_ms = reg.registration_ms;
+        result.times.refinement_ms = reg.refinement_ms;
+        if (!result.fallback()) {
+            T_map = reg.T_map;
+            result.T_world_base = reg.T_world_base;
+            result.covariance = reg.covariance;
+            result.registered = reg.registered;
+            s.threshold.Update(prior_map.T_world_base.inverse() * reg.T_map);
+        }
     } else {
         const MapRegistration reg =
             s.RegisterToMap(source_base, points.doppler, prior_map, prior, dt_s, result.threshold_m);

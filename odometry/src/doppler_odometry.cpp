@@ -5,6 +5,7 @@
 
 #include "dorado/core/lie.hpp"
 #include "dorado/core/time.hpp"
+#include "dorado/odometry/vehicle_velocity_prior.hpp"
 
 namespace dorado::odometry {
 
@@ -132,8 +133,16 @@ OdometryStep DopplerOdometry::Register(const RadarScan &scan_radar,
     } else {
         // Also for kImu: its `stationary` flag lets the front end estimate the gyro bias at rest.
         step.ego = estimator_.Estimate(scan_radar);
-        if (step.ego.valid && config_.method != OdometryMethod::kImu)
-            step.motion = model_.Motion(step.ego.v_radar_mps, step.ego.cov_v_radar);
+        if (!step.ego.valid && IsPlanarScan(scan_radar))  // radar.geometry 3d on a 2D radar
+            step.ego.reason += " (every z is 0: a 2D radar; set radar.geometry planar or auto)";
+        if (step.ego.valid && config_.method != OdometryMethod::kImu) {
+            // The vehicle constraint (off by default): the base's lateral and vertical velocity
+            // through eq. (5)'s model, v_base = J_v v_radar.
+            const ConstrainedVelocity v = ApplyVehicleVelocityPrior(
+                geometry_.velocity_prior, model_.VelocityJacobian(), Eigen::Vector3d::Zero(),
+                step.ego.v_radar_mps, step.ego.cov_v_radar);
+            step.motion = model_.Motion(v.v_radar_mps, v.cov_v_radar);
+        }
     }
     ChooseTwist(gyro_base_radps, step);
 
@@ -239,8 +248,13 @@ void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, Odomet
                 return accept(planar_model_->BaseVelocity(step.ego.v_radar_mps, omega.z()), omega,
                               gyro_covariance);
             }
-            return accept(model_.BaseVelocity(step.ego.v_radar_mps, gyro_base_radps),
-                          gyro_base_radps, gyro_covariance);
+            // The vehicle constraint with the gyro's rotation: v_base = R v_radar - omega x s.
+            const ConstrainedVelocity v = ApplyVehicleVelocityPrior(
+                geometry_.velocity_prior, model_.SensorVelocityJacobian(),
+                -gyro_base_radps.cross(model_.p_base_radar()), step.ego.v_radar_mps,
+                step.ego.cov_v_radar);
+            return accept(model_.BaseVelocity(v.v_radar_mps, gyro_base_radps), gyro_base_radps,
+                          gyro_covariance);
         }
         if (!model_.constrained() || (step.planar && !planar_model_->constrained()))
             return fallback(FallbackCause::kNoImuSamples,

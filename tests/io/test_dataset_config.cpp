@@ -100,6 +100,41 @@ TEST_F(DatasetConfigTest, OutOfRangeAndWrongTypesNameTheKey) {
     ExpectError("rosbag: {path: x.bag\n", "not valid YAML");
 }
 
+TEST_F(DatasetConfigTest, VelocityPriorAndSeveralRadars) {
+    // nuScenes: 5 radars with mounts.txt's mounts; the ground vehicle's velocity prior on.
+    const DatasetConfig ns =
+        LoadDatasetConfig(std::string(DORADO_SOURCE_DIR) + "/configs/nuscenes.yaml");
+    ASSERT_EQ(ns.radars.size(), 5u);
+    EXPECT_EQ(ns.radars[1].name, "left");
+    EXPECT_EQ(ns.radars[1].T_base_radar.translation(), Eigen::Vector3d(2.422, 0.8, 0.78));
+    // left looks left: its x axis is the base's y (yaw ~88.4 deg).
+    EXPECT_NEAR(ns.radars[1].T_base_radar.linear()(1, 0), 1.0, 1e-3);
+    EXPECT_TRUE(fs::path(ns.radars[1].scans_dir).is_absolute()) << "relative to the YAML file";
+    const DatasetConfig left = ForRadar(ns, 1);
+    EXPECT_EQ(left.folder.scans_dir, ns.radars[1].scans_dir);
+    EXPECT_EQ(left.folder.timestamps_file, ns.radars[1].timestamps_file);
+    EXPECT_EQ(left.folder.columns, ns.folder.columns);
+    EXPECT_TRUE(left.extrinsics.T_base_radar.isApprox(ns.radars[1].T_base_radar));
+    EXPECT_TRUE(left.radars.empty());
+    EXPECT_TRUE(ns.vehicle.velocity_prior.enabled);
+    EXPECT_FALSE(DatasetConfig{}.vehicle.velocity_prior.enabled) << "off by default";
+    const std::string bag = "rosbag: {path: x.bag}\n";
+    ExpectError(bag + "vehicle: {model: unconstrained, velocity_prior: {enabled: true}}\n",
+                "'vehicle.velocity_prior.enabled'");
+    ExpectError(bag + "vehicle: {velocity_prior: {sigma_vertical_mps: 0}}\n",
+                "'vehicle.velocity_prior.sigma_vertical_mps': must be a number > 0");
+    ExpectError(bag + "radars: [{name: a, scans_dir: s, timestamps_file: t, "
+                      "T_base_radar: {translation_m: [1, 0, 0]}}]\n",
+                "'radars': needs reader: folder");
+    const std::string folder =
+        "reader: folder\nfolder: {scans_dir: s, timestamps_file: t, columns: [x, y, z, v]}\n";
+    ExpectError(folder + "radars: [{name: a, scans_dir: s, timestamps_file: t}]\n",
+                "'radars[0].T_base_radar': is required");
+    ExpectError(folder + "radars: [{name: a, scans_dir: s, timestamps_file: t, "
+                         "T_base_radar: {translation_m: [1, 0, 0]}, topic: x}]\n",
+                "topic");
+}
+
 TEST_F(DatasetConfigTest, YamlRoundTrip) {
     DatasetConfig config;
     config.name = "sim";

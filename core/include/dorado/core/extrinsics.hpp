@@ -41,6 +41,19 @@ struct KinematicModelNoise {
     Eigen::Vector3d angular_rate_prior_sigma_radps{0.5, 0.5, 1.5};
 };
 
+/// The vehicle constraint on the ego-velocity of a ground vehicle (the dataset's
+/// `vehicle.velocity_prior`): the base (rear-axle centre) moves along its own X, so its lateral
+/// and vertical velocities are about zero with these 1-sigma spreads. A pseudo-measurement on the
+/// radar velocity before the kinematic model (odometry/vehicle_velocity_prior.hpp): where the scan
+/// observes a direction weakly (a real radar's elevation), the prior holds it; where the scan
+/// observes it well, the scan wins. Off for hand-held and aerial platforms (refused with
+/// vehicle.model unconstrained).
+struct VehicleVelocityPrior {
+    bool enabled = false;
+    double sigma_lateral_mps = 0.1;
+    double sigma_vertical_mps = 0.1;
+};
+
 /// Which kinematic constraint the platform obeys (the dataset's `vehicle.model`).
 enum class VehicleModel {
     /// The paper's model (section III-B): Z-ICR on the rear axle (x = 0), Y-ICR at x =
@@ -79,6 +92,7 @@ struct VehicleGeometry {
     /// where the ground-plane attitude looks for the road (z_base = -base_height_m). NaN =
     /// unknown (the dataset's vehicle.base_height_m absent): no ground-plane attitude.
     double base_height_m = std::numeric_limits<double>::quiet_NaN();
+    VehicleVelocityPrior velocity_prior;
 };
 
 }  // namespace dorado

@@ -62,6 +62,17 @@ struct NuScenesSource {
     std::string channel;   ///< the radar's channel, e.g. RADAR_FRONT
 };
 
+/// One of several radars on the vehicle (the `radars:` list, reader folder): its scan files, laid
+/// out as `folder:` says (extension, columns), and its mount. Read by `dorado twist` (the joint
+/// twist of every radar's Doppler); `folder:` and `extrinsics:` stay the single radar that
+/// `dorado odometry` and `dorado map` read.
+struct RadarStream {
+    std::string name;             ///< for messages and reports, e.g. "front"
+    std::string scans_dir;        ///< as folder.scans_dir
+    std::string timestamps_file;  ///< as folder.timestamps_file
+    Eigen::Isometry3d T_base_radar = Eigen::Isometry3d::Identity();
+};
+
 struct GroundTruthFile {
     std::string path;  ///< empty = none
     TrajectoryFormat format = TrajectoryFormat::kTum;
@@ -82,7 +93,13 @@ struct DatasetConfig {
     VehicleGeometry vehicle;
     /// The radar's noise and Doppler ambiguity (the `radar:` section; all 0 = unknown/none).
     RadarSensorModel radar;
+    /// Several radars on one vehicle (empty: one radar, `folder:` + `extrinsics:`).
+    std::vector<RadarStream> radars;
 };
+
+/// The description with `folder:` and `extrinsics.T_base_radar` set to radars[index]'s (to read
+/// that radar's scans with OpenDataset). Throws std::out_of_range for a bad index.
+[[nodiscard]] DatasetConfig ForRadar(const DatasetConfig &config, std::size_t index);
 
 /// Reads and validates a dataset description. Relative paths are taken relative to the YAML file.
 /// Unknown keys, wrong types and out-of-range values throw ConfigError naming file and key.

@@ -214,6 +214,12 @@ class RadarMapper {
     /// Scans that fell back to the prior so far.
     [[nodiscard]] int fallbacks() const;
 
+    /// A 2D radar (the odometry's planar mode): from now on every scan registers in the plane,
+    /// x, y and yaw, with z, roll and pitch held at the prior's (planar_registration.hpp).
+    /// Throws std::invalid_argument with refinement window (a 6-DoF smoother).
+    void SetPlanar();
+    [[nodiscard]] bool planar() const;
+
   private:
     struct State;
     std::unique_ptr<State> state_;

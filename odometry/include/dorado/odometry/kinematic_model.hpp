@@ -79,6 +79,9 @@ class KinematicModel {
     /// d v_base / d v_radar.
     [[nodiscard]] const Eigen::Matrix3d &VelocityJacobian() const { return J_v_base_; }
 
+    /// d v_s / d v_radar = R_base_radar.
+    [[nodiscard]] const Eigen::Matrix3d &SensorVelocityJacobian() const { return R_base_radar_; }
+
     /// The sensor velocity in the base frame, v_s = R_base_radar v_radar.
     [[nodiscard]] Eigen::Vector3d SensorVelocityInBase(const Eigen::Vector3d &v_radar) const;
 

@@ -1,0 +1,306 @@
+// Scan-to-map registration in the plane (planar mode, 2D radars): see planar_registration.hpp.
+#include "planar_registration.hpp"
+
+#include <ceres/loss_function.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "dorado/core/lie.hpp"
+#include "local_map_impl.hpp"
+#include "robust_loss.hpp"
+
+namespace dorado::mapping {
+
+Eigen::Isometry3d PlanarPlus(const Eigen::Isometry3d &T, const Eigen::Vector3d &d) {
+    Vector6d xi = Vector6d::Zero();
+    xi(0) = d(0);
+    xi(1) = d(1);
+    xi(5) = d(2);
+    return T * ExpSE3(xi);
+}
+
+Eigen::Vector3d PlanarMinus(const Eigen::Isometry3d &T_a, const Eigen::Isometry3d &T_b) {
+    const Vector6d xi = LogSE3(T_a.inverse() * T_b);
+    return {xi(0), xi(1), xi(5)};
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MillisecondsSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+Eigen::Matrix3d PlanarBlock(const Matrix6d &C) {
+    Eigen::Matrix3d out;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) out(i, j) = C(kPlanarAxes[i], kPlanarAxes[j]);
+    return out;
+}
+
+// C with its planar block replaced by P and the planar-held cross terms zeroed.
+Matrix6d WithPlanarBlock(Matrix6d C, const Eigen::Matrix3d &P) {
+    for (int i = 0; i < 3; ++i) {
+        for (int k = 0; k < 6; ++k) {
+            C(kPlanarAxes[i], k) = 0.0;
+            C(k, kPlanarAxes[i]) = 0.0;
+        }
+    }
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) C(kPlanarAxes[i], kPlanarAxes[j]) = P(i, j);
+    return C;
+}
+
+Eigen::Matrix3d Inverse(const Eigen::Matrix3d &C) {
+    const Eigen::Matrix3d regularised = C + 1e-12 * Eigen::Matrix3d::Identity();
+    return regularised.ldlt().solve(Eigen::Matrix3d::Identity());
+}
+
+struct Match {
+    Eigen::Vector3d p_base;
+    Eigen::Vector3d q_world;
+};
+
+// The nearest map point within the threshold of every source point at T.
+std::vector<Match> FindMatches(const Eigen::Matrix3Xd &source_base, const Eigen::Isometry3d &T,
+                               const LocalMap::Impl &map, double threshold_m, double &sum_sq) {
+    std::vector<Match> matches;
+    matches.reserve(static_cast<std::size_t>(source_base.cols()));
+    sum_sq = 0.0;
+    for (Eigen::Index i = 0; i < source_base.cols(); ++i) {
+        const LocalMap::Neighbour nn = map.Nearest(T * source_base.col(i), threshold_m);
+        if (nn.index < 0) continue;
+        matches.push_back({source_base.col(i), map.points_world[nn.index]});
+        sum_sq += nn.distance_squared;
+    }
+    return matches;
+}
+
+// One match's residual (world x, y) at T and its Jacobian in d = (rho_x, rho_y, phi_z):
+// d (T Exp(xi) p) / d xi = R [I, -Hat(p)], so the columns are R e_x, R e_y and R (e_z x p).
+void ResidualAndJacobian(const Match &m, const Eigen::Isometry3d &T, Eigen::Vector2d &r,
+                         Eigen::Matrix<double, 2, 3> &J) {
+    const Eigen::Matrix3d &R = T.linear();
+    r = (T * m.p_base - m.q_world).head<2>();
+    J.col(0) = R.col(0).head<2>();
+    J.col(1) = R.col(1).head<2>();
+    J.col(2) = (R * Eigen::Vector3d(-m.p_base.y(), m.p_base.x(), 0.0)).head<2>();
+}
+
+// The registration's weighted normal equations at T (point-to-point in the plane, residuals
+// whitened by point_sigma_m, the kernel's IRLS weight rho'(s)).
+struct Normal {
+    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    double weighted_sq = 0.0;  ///< sum of w s (whitened)
+    double weights = 0.0;
+};
+
+Normal Accumulate(const std::vector<Match> &matches, const Eigen::Isometry3d &T,
+                  const ceres::LossFunction *loss, double sigma_m) {
+    Normal n;
+    const double inv_var = 1.0 / (sigma_m * sigma_m);
+    for (const Match &m : matches) {
+        Eigen::Vector2d r;
+        Eigen::Matrix<double, 2, 3> J;
+        ResidualAndJacobian(m, T, r, J);
+        const double s = r.squaredNorm() * inv_var;
+        double rho[3] = {s, 1.0, 0.0};
+        if (loss != nullptr) loss->Evaluate(s, rho);
+        const double w = rho[1];
+        n.H += w * inv_var * J.transpose() * J;
+        n.g += w * inv_var * J.transpose() * r;
+        n.weighted_sq += w * s;
+        n.weights += w;
+    }
+    return n;
+}
+
+// Gauss-Newton from T over the registration residuals (re-associated each iteration) and, when
+// given, a Gaussian prior in the plane. False when a step had fewer than 3 matches or was not
+// finite.
+bool Solve(const Eigen::Matrix3Xd &source_base, const LocalMap::Impl &map, double threshold_m,
+           const ceres::LossFunction *loss, const MapperConfig &config, int iterations,
+           const MotionPrior *prior, Eigen::Isometry3d &T) {
+    const Eigen::Matrix3d prior_information =
+        prior != nullptr ? Inverse(PlanarBlock(prior->covariance)) : Eigen::Matrix3d::Zero();
+    for (int it = 0; it < iterations; ++it) {
+        double sum_sq = 0.0;
+        const std::vector<Match> matches = FindMatches(source_base, T, map, threshold_m, sum_sq);
+        if (matches.size() < 3) return false;
+        Normal n = Accumulate(matches, T, loss, config.point_sigma_m);
+        if (prior != nullptr) {
+            // e = PlanarMinus(prior, T Exp(d)) ~ e0 + d (first order in the plane).
+            const Eigen::Vector3d e0 = PlanarMinus(prior->T_world_base, T);
+            n.H += prior_information;
+            n.g += prior_information * e0;
+        }
+        const Eigen::Vector3d d = -n.H.ldlt().solve(n.g);
+        if (!d.allFinite()) return false;
+        T = PlanarPlus(T, d);
+        if (d.head<2>().norm() < 1e-4 && std::abs(d(2)) < 1e-6) break;
+    }
+    return T.matrix().allFinite();
+}
+
+// lambda_min / lambda_max of the matched points' 2-D scatter (world frame).
+double Observability(const std::vector<Match> &matches) {
+    if (matches.size() < 3) return 0.0;
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const Match &m : matches) mean += m.q_world.head<2>();
+    mean /= static_cast<double>(matches.size());
+    Eigen::Matrix2d S = Eigen::Matrix2d::Zero();
+    for (const Match &m : matches) {
+        const Eigen::Vector2d e = m.q_world.head<2>() - mean;
+        S += e * e.transpose();
+    }
+    const Eigen::Vector2d lambda =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(S, Eigen::EigenvaluesOnly).eigenvalues();
+    return lambda(1) > 0.0 ? std::max(0.0, lambda(0)) / lambda(1) : 0.0;
+}
+
+// The registration's covariance in the plane at T, by the configured model, plus its floor:
+// independent (H^-1), residual_scale (H^-1 times the whitened residuals' variance) or clustered
+// (H^-1 (sum_c g_c g_c^T) H^-1, the residuals grouped by the map cell of registration_cluster_m
+// they fall in, with the small-sample factor C / (C - 1)).
+Eigen::Matrix3d RegistrationCovariancePlanar(const std::vector<Match> &matches,
+                                             const Eigen::Isometry3d &T,
+                                             const ceres::LossFunction *loss,
+                                             const MapperConfig &config, double &residual_scale,
+                                             int &clusters) {
+    const double inv_var = 1.0 / (config.point_sigma_m * config.point_sigma_m);
+    const Normal n = Accumulate(matches, T, loss, config.point_sigma_m);
+    const Eigen::Matrix3d H_inv = Inverse(n.H);
+    residual_scale = n.weights > 0.0 ? std::sqrt(n.weighted_sq / n.weights) : 0.0;
+    clusters = 0;
+    Eigen::Matrix3d C;
+    switch (config.registration_covariance) {
+        case RegistrationCovarianceModel::kIndependent:
+            C = H_inv;
+            break;
+        case RegistrationCovarianceModel::kResidualScale:
+            C = residual_scale * residual_scale * H_inv;
+            break;
+        case RegistrationCovarianceModel::kClustered: {
+            std::map<std::pair<long, long>, Eigen::Vector3d> g_of;
+            const double cell = config.registration_cluster_m;
+            for (const Match &m : matches) {
+                Eigen::Vector2d r;
+                Eigen::Matrix<double, 2, 3> J;
+                ResidualAndJacobian(m, T, r, J);
+                const double s = r.squaredNorm() * inv_var;
+                double rho[3] = {s, 1.0, 0.0};
+                if (loss != nullptr) loss->Evaluate(s, rho);
+                const std::pair<long, long> key{std::lround(std::floor(m.q_world.x() / cell)),
+                                                std::lround(std::floor(m.q_world.y() / cell))};
+                auto [it, inserted] = g_of.try_emplace(key, Eigen::Vector3d::Zero());
+                it->second += rho[1] * inv_var * J.transpose() * r;
+            }
+            Eigen::Matrix3d meat = Eigen::Matrix3d::Zero();
+            for (const auto &[key, g] : g_of) meat += g * g.transpose();
+            clusters = static_cast<int>(g_of.size());
+            const double small_sample = clusters > 1 ? clusters / (clusters - 1.0) : 1.0;
+            C = small_sample * H_inv * meat * H_inv;
+            break;
+        }
+    }
+    const double ft = config.registration_floor_sigma_translation_m;
+    const double fr = config.registration_floor_sigma_rotation_rad;
+    C += Eigen::Vector3d(ft * ft, ft * ft, fr * fr).asDiagonal();
+    return 0.5 * (C + C.transpose());
+}
+
+}  // namespace
+
+PlanarRegistration RegisterPlanar(const Eigen::Matrix3Xd &source_base,
+                                  const MotionPrior &prior_map, const MotionPrior &prior,
+                                  const LocalMap &local_map, const MapperConfig &config,
+                                  double threshold_m) {
+    PlanarRegistration out;
+    const LocalMap::Impl &map = local_map.impl();
+    const auto loss = MakeLoss(config.kernel, config.kernel_scale);
+    const auto t_align = Clock::now();
+
+    // 1. Alignment from the prior: the registration alone (the 3-D path's PCL ICP).
+    Eigen::Isometry3d T_aligned = prior_map.T_world_base;
+    const bool converged = Solve(source_base, map, threshold_m, loss.get(), config,
+                                 config.max_iterations, nullptr, T_aligned);
+    out.alignment_ms = MillisecondsSince(t_align);
+    double sum_sq = 0.0;
+    const std::vector<Match> matches =
+        converged ? FindMatches(source_base, T_aligned, map, threshold_m, sum_sq)
+                  : std::vector<Match>{};
+    out.count = static_cast<int>(matches.size());
+    out.rms_m = matches.empty() ? 0.0 : std::sqrt(sum_sq / static_cast<double>(matches.size()));
+    out.observability = Observability(matches);
+    // The jump test: the prior widened by the registration's own noise, in the plane.
+    const double st = config.registration_sigma_translation_m;
+    const double sr = config.registration_sigma_rotation_rad;
+    const Eigen::Matrix3d widened = PlanarBlock(prior_map.covariance) +
+                                    Eigen::Vector3d(st * st, st * st, sr * sr).asDiagonal().toDenseMatrix();
+    const Eigen::Vector3d jump = PlanarMinus(prior_map.T_world_base, T_aligned);
+    out.prior_mahalanobis_squared = jump.dot(Inverse(widened) * jump);
+    out.registration_ms = MillisecondsSince(t_align);
+
+    if (!converged) {
+        out.cause = FallbackCause::kNotConverged;
+    } else if (out.count < config.min_correspondences) {
+        out.cause = FallbackCause::kTooFewCorrespondences;
+        out.detail = std::to_string(out.count);
+    } else if (out.rms_m > config.max_rms_m) {
+        out.cause = FallbackCause::kBadFitness;
+        out.detail = "rms " + std::to_string(out.rms_m) + " m";
+    } else if (out.observability < config.min_observability) {
+        out.cause = FallbackCause::kDegenerate;
+        out.detail = "observability " + std::to_string(out.observability);
+    } else if (out.prior_mahalanobis_squared > config.max_prior_mahalanobis_squared) {
+        out.cause = FallbackCause::kJump;
+        out.detail = "Mahalanobis^2 " + std::to_string(out.prior_mahalanobis_squared);
+    }
+    if (out.cause != FallbackCause::kNone) return out;
+
+    const auto t_refine = Clock::now();
+    // 2. The registered pose (the map's chain): registration + the map chain's prior.
+    Eigen::Isometry3d T_map = T_aligned;
+    const bool ceres = config.refinement != Refinement::kNone;
+    if (ceres && !Solve(source_base, map, threshold_m, loss.get(), config,
+                        config.refine_max_iterations, &prior_map, T_map))
+        T_map = T_aligned;
+    double rms = 0.0;
+    const std::vector<Match> final_matches =
+        FindMatches(source_base, T_map, map, threshold_m, rms);
+    RegisteredPose &registered = out.registered;
+    const Eigen::Matrix3d C_reg = RegistrationCovariancePlanar(
+        final_matches, T_map, loss.get(), config, registered.residual_scale, registered.clusters);
+    registered.valid = final_matches.size() >= 3 && C_reg.allFinite();
+    registered.T_world_base = T_map;
+    registered.covariance = WithPlanarBlock(prior_map.covariance, C_reg);
+    registered.information = WithPlanarBlock(Matrix6d::Zero(), Inverse(C_reg));
+    out.T_map = T_map;
+
+    // 3. The output: its prior fused with the registered pose by their informations (refinement
+    //    none: the registered pose itself).
+    if (!ceres || !registered.valid) {
+        out.T_world_base = T_map;
+        out.covariance = registered.covariance;
+    } else {
+        const Eigen::Matrix3d I_prior = Inverse(PlanarBlock(prior.covariance));
+        const Eigen::Matrix3d I_reg = Inverse(C_reg);
+        const Eigen::Matrix3d C = Inverse(I_prior + I_reg);
+        const Eigen::Vector3d d = C * (I_reg * PlanarMinus(prior.T_world_base, T_map));
+        out.T_world_base = PlanarPlus(prior.T_world_base, d);
+        out.covariance = WithPlanarBlock(prior.covariance, C);
+    }
+    out.refinement_ms = MillisecondsSince(t_refine);
+    return out;
+}
+
+}  // namespace dorado::mapping
