@@ -13,5 +13,6 @@ void RegisterCalibrateCommand(CLI::App &app);
 void RegisterSimulateCommand(CLI::App &app);
 void RegisterEvalCommand(CLI::App &app);
 void RegisterBenchCommand(CLI::App &app);
+void RegisterConfigCommand(CLI::App &app);
 
 }  // namespace dorado::apps

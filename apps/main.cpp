@@ -20,6 +20,7 @@ int main(int argc, char **argv) {
     dorado::apps::RegisterMapCommand(app);
     dorado::apps::RegisterEvalCommand(app);
     dorado::apps::RegisterBenchCommand(app);
+    dorado::apps::RegisterConfigCommand(app);
 
     try {
         app.parse(argc, argv);
