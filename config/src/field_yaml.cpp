@@ -9,10 +9,20 @@ namespace dorado::config {
 std::string FormatValue(double value) {
     if (std::isinf(value)) return value > 0 ? ".inf" : "-.inf";
     if (std::isnan(value)) return ".nan";
-    char buffer[32];
-    for (int digits = 1; digits <= 17; ++digits) {  // the fewest digits that read back exactly
+    // The fewest digits that read back exactly: fixed notation for ordinary magnitudes (100.0,
+    // 0.003), the shortest %g otherwise.
+    char buffer[64];
+    const double magnitude = std::abs(value);
+    bool found = false;
+    if (magnitude == 0.0 || (magnitude >= 1e-4 && magnitude < 1e15)) {
+        for (int decimals = 0; decimals <= 17 && !found; ++decimals) {
+            std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+            found = std::strtod(buffer, nullptr) == value;
+        }
+    }
+    for (int digits = 1; digits <= 17 && !found; ++digits) {
         std::snprintf(buffer, sizeof buffer, "%.*g", digits, value);
-        if (std::strtod(buffer, nullptr) == value) break;
+        found = std::strtod(buffer, nullptr) == value;
     }
     std::string text = buffer;
     // YAML reads "1" as an integer, which is fine for a double member, but keep a double a double.

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -32,15 +33,12 @@ void ExpectSameFields(const std::vector<FieldRow> &actual, const std::vector<Fie
     }
 }
 
-/// The node at a dotted key, undefined when any part is missing.
-YAML::Node At(YAML::Node node, const std::string &dotted) {
-    std::stringstream parts(dotted);
-    std::string part;
-    while (std::getline(parts, part, '.')) {
-        if (!node.IsMap() || !node[part]) return YAML::Node(YAML::NodeType::Undefined);
-        node = node[part];
-    }
-    return node;
+/// Whether the file writes the dotted key (each part a key of the mapping above it).
+bool Writes(const YAML::Node &node, const std::string &dotted) {
+    const auto dot = dotted.find('.');
+    const std::string part = dotted.substr(0, dot);
+    if (!node.IsMap() || !node[part]) return false;
+    return dot == std::string::npos || Writes(node[part], dotted.substr(dot + 1));
 }
 
 TEST(ConfigFields, ShippedOdometryYamlIsTheBuiltInDefaults) {
@@ -55,10 +53,10 @@ TEST(ConfigFields, ShippedMapperYamlIsTheBuiltInDefaults) {
 TEST(ConfigFields, ShippedYamlsWriteEveryKeyTheReaderAccepts) {
     const YAML::Node odometry = YAML::LoadFile(kOdometryYaml);
     for (const auto &row : OdometryConfigFields())
-        EXPECT_TRUE(At(odometry, row.key).IsDefined()) << kOdometryYaml << " lacks " << row.key;
+        EXPECT_TRUE(Writes(odometry, row.key)) << kOdometryYaml << " lacks " << row.key;
     const YAML::Node mapper = YAML::LoadFile(kMapperYaml);
     for (const auto &row : MapConfigFields())
-        EXPECT_TRUE(At(mapper, row.key).IsDefined()) << kMapperYaml << " lacks " << row.key;
+        EXPECT_TRUE(Writes(mapper, row.key)) << kMapperYaml << " lacks " << row.key;
 }
 
 TEST(ConfigFields, DocsKeyTablesAreTheFieldLists) {

@@ -172,6 +172,11 @@ TEST(RadarMapper, ShortDriveStaysWithinStatedRpe) {
     EXPECT_LT(r.mean_rpe_translation_m, 1.02 * r.prior_only_rpe_translation_m);
     EXPECT_LT(r.mean_rpe_rotation_rad, 0.15 * M_PI / 180.0);
     EXPECT_EQ(r.fallbacks, 0);
+    // What the registration adds: the map holds the pose where the prior's twists alone drift.
+    // Measured after 40 scans (30 m): 0.092 m, 0.40 deg against 0.277 m, 0.87 deg; with the
+    // registration taken out of the output, the two are equal and this fails.
+    EXPECT_LT(r.final_error_m, 0.5 * r.prior_only_final_error_m);
+    EXPECT_LT(r.final_error_rad, 0.75 * r.prior_only_final_error_rad);
 }
 
 // The window smoother (refinement: window) on the same drive: the same stated accuracy, and at

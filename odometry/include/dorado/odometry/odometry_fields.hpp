@@ -115,7 +115,7 @@ template <typename Visitor>
 void VisitFields(DopplerOdometryConfig &c, Visitor &&v) {
     VisitFields(c.ego_velocity, Prefixed{"ego_velocity.", v});
     v("odometry.method", c.method, OdometryMethodChoices(),
-      "doppler | imu (gyro rotation only) | imu+doppler (--method overrides)");
+      "the rotation source (the command line's --method overrides)");
     v("odometry.zero_velocity_update", c.zero_velocity_update,
       "stationary scans integrate a zero twist");
     v("odometry.max_angular_rate_radps", c.max_angular_rate_radps,
