@@ -100,9 +100,12 @@ void RegisterMapCommand(CLI::App &app) {
     cmd->add_option("--out", opt->out, "output folder")->required();
     cmd->add_option("--prior", opt->prior,
                     "motion prior: none | constvel | imu | doppler (default) | imu+doppler");
-    cmd->add_option("--config", opt->config, "mapper settings (see configs/mapper.yaml)");
+    cmd->add_option("--config", opt->config,
+                    "mapper settings (configs/mapper.yaml; every key and default: "
+                    "`dorado config print mapper`)");
     cmd->add_option("--odometry-config", opt->odometry_config,
-                    "Doppler estimator settings (see configs/odometry.yaml)");
+                    "Doppler estimator settings (configs/odometry.yaml; `dorado config print "
+                    "odometry`)");
     cmd->add_flag("--no-mask", opt->no_mask, "keep the dynamic points (ablation)");
     cmd->add_option("--refine", opt->refine,
                     "ceres (default), window (fixed-lag smoother) or none (PCL registration only)");

@@ -233,7 +233,9 @@ void RegisterOdometryCommand(CLI::App &app) {
            "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")
         ->required();
     cmd->add_option("--out", opt->out, "output folder")->required();
-    cmd->add_option("--config", opt->config, "odometry settings (see configs/odometry.yaml)");
+    cmd->add_option("--config", opt->config,
+                    "odometry settings (configs/odometry.yaml; every key and default: "
+                    "`dorado config print odometry`)");
     cmd->add_option("--method", opt->method,
                     "doppler (kinematic model, default), imu (gyro rotation, no translation) or "
                     "imu+doppler (gyro rotation + Doppler translation)");

@@ -14,5 +14,6 @@ void RegisterSimulateCommand(CLI::App &app);
 void RegisterEvalCommand(CLI::App &app);
 void RegisterBenchCommand(CLI::App &app);
 void RegisterTwistCommand(CLI::App &app);
+void RegisterConfigCommand(CLI::App &app);
 
 }  // namespace dorado::apps

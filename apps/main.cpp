@@ -21,6 +21,7 @@ int main(int argc, char **argv) {
     dorado::apps::RegisterEvalCommand(app);
     dorado::apps::RegisterBenchCommand(app);
     dorado::apps::RegisterTwistCommand(app);
+    dorado::apps::RegisterConfigCommand(app);
 
     try {
         app.parse(argc, argv);

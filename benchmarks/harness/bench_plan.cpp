@@ -9,6 +9,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "dorado/config/map_config.hpp"
+#include "dorado/config/odometry_config.hpp"
 #include "dorado/io/yaml_section.hpp"
 
 namespace dorado::apps {
@@ -94,6 +96,13 @@ std::vector<GridAxis> ParseGrid(io::YamlSection &grid, const YAML::Node &node,
                                    "' names a directory: no '/', ',', '@' or spaces");
             }
         }
+        // The key must be one the settings file reads (its field list), before any run starts.
+        const auto fields =
+            kind == "odometry" ? config::OdometryConfigFields() : config::MapConfigFields();
+        bool known = false;
+        for (const auto &field : fields) known |= field.key == axis.key;
+        if (!known)
+            grid.Fail(key, "is not a " + kind + " settings key (`dorado config keys` lists them)");
         axes.push_back(std::move(axis));
     }
     return axes;

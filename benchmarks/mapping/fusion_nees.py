@@ -10,7 +10,7 @@ consistency of their covariances by NEES.
 Per scan k (both k-1 and k registered), with T_{k-1} the mapper's previous (fused) pose, the
 motion of source X is D_X = T_{k-1}^-1 T_X,k and its error xi = Log(D_X^-1 D_true) (right
 perturbation in the base frame, the convention of the covariances). NEES = xi^T C_X^-1 xi with
-6 degrees of freedom. Over 1 s, the fused per-frame covariances are compounded (independent steps)
+6 degrees of freedom. Over 1 s (the frames of one second at the run's median scan interval), the fused per-frame covariances are compounded (independent steps)
 and compared with the error of T_{k-n}^-1 T_k. The chi-square 95 % band of a mean over N samples
 is [chi2(0.025, 6N) / N, chi2(0.975, 6N) / N] (Wilson-Hilferty); the per-sample band is
 [1.24, 14.45]. Samples of one drive are correlated, so the mean's band is a strict reading.
@@ -184,6 +184,13 @@ def score(truth, rows, second_frames):
     return err, ne, ne_1s
 
 
+def scan_rate_hz(rows):
+    """Frames per second of a run: 1 / its median interval between scans (15 Hz data has 15)."""
+    intervals = np.diff([r["t"] for r in rows])
+    intervals = intervals[intervals > 0]
+    return 1.0 / float(np.median(intervals)) if len(intervals) else 10.0
+
+
 def rmse(errors, part):
     if not errors:
         return float("nan")
@@ -196,7 +203,8 @@ def main():
     ap.add_argument("--truth", action="append", required=True, help="true_trajectory.tum (exact)")
     ap.add_argument("--run", action="append", required=True, help="dorado map output folder")
     ap.add_argument("--name", action="append", help="a label per run")
-    ap.add_argument("--scan-rate-hz", type=float, default=10.0, help="frames per second for the 1 s NEES")
+    ap.add_argument("--scan-rate-hz", type=float, default=None,
+                    help="frames per second for the 1 s NEES (default: each run's median scan interval)")
     ap.add_argument("--check-fused-nees", nargs=2, type=float, metavar=("LO", "HI"))
     ap.add_argument("--scale-covariance", type=float, default=1.0,
                     help="multiply every covariance read (a test shows that a wrong scale fails the gate)")
@@ -204,7 +212,6 @@ def main():
     if len(args.truth) != len(args.run):
         sys.exit("fusion_nees.py: give one --truth per --run")
     names = args.name or [r.rstrip("/").split("/")[-1] for r in args.run]
-    n_1s = max(1, int(round(args.scan_rate_hz)))
     print("| sequence | frames | per-frame trans [mm] prior / reg / fused | per-frame rot [deg] prior / reg / fused "
           "| mean NEES 1 frame prior / reg / fused | fused NEES in 95 % per-sample band | mean NEES 1 s (fused) "
           "| mean's 95 % band (1 frame) |")
@@ -213,7 +220,8 @@ def main():
     for truth_path, run, name in zip(args.truth, args.run, names):
         truth = Truth(truth_path)
         rows = read_covariance_csv(run.rstrip("/") + "/covariance.csv", args.scale_covariance)
-        err, ne, ne_1s = score(truth, rows, n_1s)
+        rate_hz = args.scan_rate_hz or scan_rate_hz(rows)
+        err, ne, ne_1s = score(truth, rows, max(1, int(round(rate_hz))))
         N = len(ne["fused"])
         if N == 0:
             print(f"| {name} | 0 | no fused scans matched the truth's stamps |")

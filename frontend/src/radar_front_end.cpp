@@ -14,10 +14,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double MillisecondsSince(Clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
 // With the mapper on, the odometry's method follows the prior: the imu+doppler prior needs the
 // gyro-rotation chain, every other prior the Doppler model's (gyro-only odometry has no Doppler
 // velocity, hence no mask).
@@ -224,7 +220,7 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
         s.config.use_mask && step.ego.valid ? &result.static_mask : nullptr;
     if (s.mapper) {
         const auto t_prior = Clock::now();
-        const double dt_s = s.scans_since_reset == 0 ? 0.1 : step.dt_s;
+        const double dt_s = s.scans_since_reset == 0 ? mapping::kFirstScanIntervalS : step.dt_s;
         result.prior = s.BuildPrior(step, scan_radar.stamp_ns, dt_s, result);
         if (s.config.odometry.ground.enabled && result.prior_used == mapping::PriorKind::kDoppler) {
             // The twist carries no attitude correction: the prior's roll and pitch get the

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "dorado/core/require.hpp"
 #include "local_map_impl.hpp"
 
 namespace dorado::mapping {
@@ -28,13 +29,11 @@ int32_t Offset(int32_t n) {
 }  // namespace
 
 void LocalMapConfig::Validate() const {
-    auto fail = [](const std::string &key, const std::string &what) {
-        throw std::invalid_argument("mapper config: map." + key + " " + what);
-    };
-    if (!std::isfinite(voxel_size_m) || voxel_size_m <= 0.0) fail("voxel_size_m", "must be > 0");
-    if (max_points_per_voxel < 1 || max_points_per_voxel > 1000)
-        fail("max_points_per_voxel", "must be in [1, 1000]");
-    if (!(max_distance_m > 0.0)) fail("max_distance_m", "must be > 0");
+    Require(std::isfinite(voxel_size_m) && voxel_size_m > 0.0, "mapper.map.voxel_size_m",
+            "must be > 0");
+    Require(max_points_per_voxel >= 1 && max_points_per_voxel <= 1000,
+            "mapper.map.max_points_per_voxel", "must be in [1, 1000]");
+    Require(max_distance_m > 0.0, "mapper.map.max_distance_m", "must be > 0");
 }
 
 VoxelKey LocalMap::Impl::KeyOf(const Eigen::Vector3d &p) const {

@@ -3,56 +3,52 @@
 #include <stdexcept>
 #include <string>
 
+#include "dorado/core/require.hpp"
 #include "dorado/mapping/radar_mapper.hpp"
 
 namespace dorado::mapping {
 
-namespace {
-
-void Require(bool ok, const char *key, const char *what) {
-    if (!ok) throw std::invalid_argument(std::string("mapper config: ") + key + " " + what);
-}
-
-}  // namespace
-
 void MapperConfig::Validate() const {
-    Require(min_range_m >= 0.0 && std::isfinite(min_range_m), "min_range_m", "must be >= 0");
-    Require(max_range_m > min_range_m, "max_range_m", "must be > min_range_m");
-    Require(scan_voxel_m > 0.0 && std::isfinite(scan_voxel_m), "scan_voxel_m", "must be > 0");
+    Require(min_range_m >= 0.0 && std::isfinite(min_range_m), "mapper.min_range_m", "must be >= 0");
+    Require(max_range_m > min_range_m, "mapper.max_range_m", "must be > min_range_m");
+    Require(scan_voxel_m > 0.0 && std::isfinite(scan_voxel_m), "mapper.scan_voxel_m",
+            "must be > 0");
     map.Validate();
-    Require(keyframe_distance_m >= 0.0, "keyframe_distance_m", "must be >= 0");
-    Require(keyframe_angle_deg >= 0.0, "keyframe_angle_deg", "must be >= 0");
-    Require(max_source_points >= 10, "max_source_points", "must be >= 10");
-    Require(max_iterations >= 1, "max_iterations", "must be >= 1");
-    Require(initial_threshold_m > 0.0, "initial_threshold_m", "must be > 0");
-    Require(min_threshold_m > 0.0, "min_threshold_m", "must be > 0");
-    Require(min_motion_m >= 0.0, "min_motion_m", "must be >= 0");
-    Require(covariance_neighbours >= 3, "covariance_neighbours", "must be >= 3");
-    Require(kernel_scale > 0.0, "kernel_scale", "must be > 0");
-    Require(point_sigma_m > 0.0, "point_sigma_m", "must be > 0");
-    Require(plane_flatness > 0.0 && plane_flatness <= 1.0, "plane_flatness", "must be in (0, 1]");
-    Require(doppler_sigma_mps > 0.0, "doppler_sigma_mps", "must be > 0");
-    Require(max_registration_residuals >= 1, "max_registration_residuals", "must be >= 1");
-    Require(max_doppler_residuals >= 0, "max_doppler_residuals", "must be >= 0");
-    Require(refine_max_iterations >= 1, "refine_max_iterations", "must be >= 1");
-    Require(refine_outer_iterations >= 1, "refine_outer_iterations", "must be >= 1");
-    Require(registration_floor_sigma_translation_m >= 0.0, "registration_floor_sigma_translation_m",
-            "must be >= 0");
-    Require(registration_floor_sigma_rotation_rad >= 0.0, "registration_floor_sigma_rotation_rad",
-            "must be >= 0");
+    Require(keyframe_distance_m >= 0.0, "mapper.keyframe_distance_m", "must be >= 0");
+    Require(keyframe_angle_deg >= 0.0, "mapper.keyframe_angle_deg", "must be >= 0");
+    Require(max_source_points >= 10, "mapper.max_source_points", "must be >= 10");
+    Require(max_iterations >= 1, "mapper.max_iterations", "must be >= 1");
+    Require(initial_threshold_m > 0.0, "mapper.initial_threshold_m", "must be > 0");
+    Require(min_threshold_m > 0.0, "mapper.min_threshold_m", "must be > 0");
+    Require(min_motion_m >= 0.0, "mapper.min_motion_m", "must be >= 0");
+    Require(covariance_neighbours >= 3, "mapper.covariance_neighbours", "must be >= 3");
+    Require(kernel_scale > 0.0, "mapper.kernel_scale", "must be > 0");
+    Require(point_sigma_m > 0.0, "mapper.point_sigma_m", "must be > 0");
+    Require(plane_flatness > 0.0 && plane_flatness <= 1.0, "mapper.plane_flatness",
+            "must be in (0, 1]");
+    Require(doppler_sigma_mps > 0.0, "mapper.doppler_sigma_mps", "must be > 0");
+    Require(max_registration_residuals >= 1, "mapper.max_registration_residuals", "must be >= 1");
+    Require(max_doppler_residuals >= 0, "mapper.max_doppler_residuals", "must be >= 0");
+    Require(refine_max_iterations >= 1, "mapper.refine_max_iterations", "must be >= 1");
+    Require(refine_outer_iterations >= 1, "mapper.refine_outer_iterations", "must be >= 1");
+    Require(registration_floor_sigma_translation_m >= 0.0,
+            "mapper.registration_floor_sigma_translation_m", "must be >= 0");
+    Require(registration_floor_sigma_rotation_rad >= 0.0,
+            "mapper.registration_floor_sigma_rotation_rad", "must be >= 0");
     Require(registration_weak_ratio >= 0.0 && registration_weak_ratio < 1.0,
-            "registration_weak_ratio", "must be in [0, 1)");
+            "mapper.registration_weak_ratio", "must be in [0, 1)");
     Require(registration_cluster_m > 0.0 && std::isfinite(registration_cluster_m),
-            "registration_cluster_m", "must be > 0");
+            "mapper.registration_cluster_m", "must be > 0");
     if (refinement == Refinement::kWindow) window.Validate();
-    Require(min_correspondences >= 6, "min_correspondences", "must be >= 6");
-    Require(max_rms_m > 0.0, "max_rms_m", "must be > 0");
-    Require(max_prior_mahalanobis_squared > 0.0, "max_prior_mahalanobis_squared", "must be > 0");
-    Require(registration_sigma_translation_m > 0.0, "registration_sigma_translation_m",
+    Require(min_correspondences >= 6, "mapper.min_correspondences", "must be >= 6");
+    Require(max_rms_m > 0.0, "mapper.max_rms_m", "must be > 0");
+    Require(max_prior_mahalanobis_squared > 0.0, "mapper.max_prior_mahalanobis_squared",
             "must be > 0");
-    Require(registration_sigma_rotation_rad > 0.0, "registration_sigma_rotation_rad",
+    Require(registration_sigma_translation_m > 0.0, "mapper.registration_sigma_translation_m",
             "must be > 0");
-    Require(min_observability >= 0.0 && min_observability < 1.0, "min_observability",
+    Require(registration_sigma_rotation_rad > 0.0, "mapper.registration_sigma_rotation_rad",
+            "must be > 0");
+    Require(min_observability >= 0.0 && min_observability < 1.0, "mapper.min_observability",
             "must be in [0, 1)");
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "dorado/core/require.hpp"
 #include "dorado/core/time.hpp"
 
 namespace dorado::mapping {
@@ -46,8 +47,7 @@ Eigen::Matrix3d Isotropic(double sigma) {
 }
 
 void RequirePositive(double value, const char *key) {
-    if (!std::isfinite(value) || value <= 0.0)
-        throw std::invalid_argument(std::string("prior noise: ") + key + " must be > 0");
+    Require(std::isfinite(value) && value > 0.0, std::string("prior.") + key, "must be > 0");
 }
 
 void RequirePositiveInterval(double dt_s, const char *what) {
@@ -69,7 +69,7 @@ void PriorNoiseConfig::Validate() const {
     for (int i = 0; i < 3; ++i)
         RequirePositive(doppler_min_sigma_omega_radps[i], "doppler_min_sigma_omega_radps");
     if (!gravity_world_mps2.allFinite())
-        throw std::invalid_argument("prior noise: gravity_world_mps2 must be finite");
+        throw std::invalid_argument("prior.gravity_world_mps2: must be finite");
 }
 
 MotionPrior PriorFromPreviousPose(const Eigen::Isometry3d &T_world_base_prev,

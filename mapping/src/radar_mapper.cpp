@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "dorado/core/time.hpp"
 #include "dorado/mapping/adaptive_threshold.hpp"
 #include "planar_registration.hpp"
 #include "pose_information.hpp"
@@ -19,10 +20,6 @@ namespace dorado::mapping {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double MillisecondsSince(Clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 // The points of a scan the mapper uses: in the range gate, finite, and static when a mask is given.
 struct ScanPoints {
@@ -466,7 +463,7 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
         (s.map.empty() || s.IsKeyframe(T_map))) {
         result.map_points_added_world = s.map.Update(T_map * points.p_base, T_map.translation());
         s.T_world_base_last_keyframe = T_map;
-        s.map.BuildIndex();  // the kd-tree is part of the map update's cost
+        s.map.BuildIndex();  // PCL's float copy of the map is part of the update's cost
         result.map_updated = true;
     }
     result.times.map_update_ms = MillisecondsSince(t_map);

@@ -10,16 +10,13 @@
 #include <string>
 
 #include "cost_functions.hpp"
+#include "dorado/core/require.hpp"
 #include "robust_loss.hpp"
 #include "window_factors.hpp"
 
 namespace dorado::mapping {
 
 namespace {
-
-void Require(bool ok, const char *key, const char *what) {
-    if (!ok) throw std::invalid_argument(std::string("mapper config: window.") + key + " " + what);
-}
 
 // One state's parameter blocks and the measurements kept for its factors.
 struct Slot {
@@ -34,13 +31,14 @@ struct Slot {
 }  // namespace
 
 void WindowConfig::Validate() const {
-    Require(size >= 1 && size <= 100, "size", "must be in [1, 100]");
-    Require((qc_linear.array() > 0.0).all() && qc_linear.allFinite(), "qc_linear", "must be > 0");
-    Require((qc_angular.array() > 0.0).all() && qc_angular.allFinite(), "qc_angular",
+    Require(size >= 1 && size <= 100, "mapper.window.size", "must be in [1, 100]");
+    Require((qc_linear.array() > 0.0).all() && qc_linear.allFinite(), "mapper.window.qc_linear",
             "must be > 0");
-    Require(gyro_sigma_radps > 0.0, "gyro_sigma_radps", "must be > 0");
-    Require(gyro_bias_sigma_radps > 0.0, "gyro_bias_sigma_radps", "must be > 0");
-    Require(max_iterations >= 1, "max_iterations", "must be >= 1");
+    Require((qc_angular.array() > 0.0).all() && qc_angular.allFinite(), "mapper.window.qc_angular",
+            "must be > 0");
+    Require(gyro_sigma_radps > 0.0, "mapper.window.gyro_sigma_radps", "must be > 0");
+    Require(gyro_bias_sigma_radps > 0.0, "mapper.window.gyro_bias_sigma_radps", "must be > 0");
+    Require(max_iterations >= 1, "mapper.window.max_iterations", "must be >= 1");
 }
 
 struct WindowSmoother::Impl {

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "dorado/core/require.hpp"
 #include "robust_fit.hpp"
 #include "simd4.hpp"
 
@@ -15,10 +16,6 @@ namespace dorado::odometry {
 namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
-
-void Require(bool ok, const char *field, const std::string &what) {
-    if (!ok) throw std::invalid_argument(std::string("ego_velocity.") + field + ": " + what);
-}
 
 std::string Format(double value) {
     std::ostringstream s;
@@ -177,59 +174,66 @@ Eigen::Matrix3d Covariance(const EgoVelocityConfig &config, internal::Workspace 
 }  // namespace
 
 void EgoVelocityConfig::Validate() const {
-    Require(min_range_m >= 0.0, "min_range_m", "must be >= 0");
-    Require(max_range_m > min_range_m, "max_range_m", "must be > min_range_m");
+    Require(min_range_m >= 0.0, "ego_velocity.min_range_m", "must be >= 0");
+    Require(max_range_m > min_range_m, "ego_velocity.max_range_m", "must be > min_range_m");
     Require(
         min_azimuth_deg >= -180.0 && min_azimuth_deg < max_azimuth_deg && max_azimuth_deg <= 180.0,
-        "min_azimuth_deg", "need -180 <= min_azimuth_deg < max_azimuth_deg <= 180");
+        "ego_velocity.min_azimuth_deg", "need -180 <= min_azimuth_deg < max_azimuth_deg <= 180");
     Require(min_elevation_deg >= -90.0 && min_elevation_deg < max_elevation_deg &&
                 max_elevation_deg <= 90.0,
-            "min_elevation_deg", "need -90 <= min_elevation_deg < max_elevation_deg <= 90");
-    Require(!std::isnan(min_power_db), "min_power_db", "must be a number (-inf allowed)");
-    Require(std::isfinite(snr_reference_db), "snr_reference_db", "must be finite");
-    Require(std::isfinite(decibel_floor_db), "decibel_floor_db", "must be finite");
-    Require(doppler_sigma_mps > 0.0 && std::isfinite(doppler_sigma_mps), "doppler_sigma_mps",
+            "ego_velocity.min_elevation_deg",
+            "need -90 <= min_elevation_deg < max_elevation_deg <= 90");
+    Require(!std::isnan(min_power_db), "ego_velocity.min_power_db",
+            "must be a number (-inf allowed)");
+    Require(std::isfinite(snr_reference_db), "ego_velocity.snr_reference_db", "must be finite");
+    Require(std::isfinite(decibel_floor_db), "ego_velocity.decibel_floor_db", "must be finite");
+    Require(doppler_sigma_mps > 0.0 && std::isfinite(doppler_sigma_mps),
+            "ego_velocity.doppler_sigma_mps", "must be > 0");
+    Require(gate_sigmas > 0.0 && std::isfinite(gate_sigmas), "ego_velocity.gate_sigmas",
             "must be > 0");
-    Require(gate_sigmas > 0.0 && std::isfinite(gate_sigmas), "gate_sigmas", "must be > 0");
-    Require(max_gate_scale >= 1.0, "max_gate_scale", "must be >= 1");
+    Require(max_gate_scale >= 1.0, "ego_velocity.max_gate_scale", "must be >= 1");
     Require(ransac_success_probability > 0.0 && ransac_success_probability < 1.0,
-            "ransac_success_probability", "must be in (0, 1)");
-    Require(ransac_min_iterations >= 1, "ransac_min_iterations", "must be >= 1");
-    Require(ransac_max_iterations >= ransac_min_iterations, "ransac_max_iterations",
+            "ego_velocity.ransac_success_probability", "must be in (0, 1)");
+    Require(ransac_min_iterations >= 1, "ego_velocity.ransac_min_iterations", "must be >= 1");
+    Require(ransac_max_iterations >= ransac_min_iterations, "ego_velocity.ransac_max_iterations",
             "must be >= ransac_min_iterations");
-    Require(ransac_score_points == 0 || ransac_score_points >= 16, "ransac_score_points",
-            "must be 0 (all points) or >= 16");
-    Require(ransac_bailout_points >= 0, "ransac_bailout_points", "must be >= 0 (0 = off)");
+    Require(ransac_score_points == 0 || ransac_score_points >= 16,
+            "ego_velocity.ransac_score_points", "must be 0 (all points) or >= 16");
+    Require(ransac_bailout_points >= 0, "ego_velocity.ransac_bailout_points",
+            "must be >= 0 (0 = off)");
     Require(ransac_bailout_fraction >= 0.0 && ransac_bailout_fraction < 1.0,
-            "ransac_bailout_fraction", "must be in [0, 1)");
-    Require(score_cells_azimuth >= 1 && score_cells_azimuth <= 256, "score_cells_azimuth",
-            "must be in [1, 256]");
-    Require(score_cells_elevation >= 1 && score_cells_elevation <= 256, "score_cells_elevation",
-            "must be in [1, 256]");
-    Require(refit_iterations >= 0, "refit_iterations", "must be >= 0");
+            "ego_velocity.ransac_bailout_fraction", "must be in [0, 1)");
+    Require(score_cells_azimuth >= 1 && score_cells_azimuth <= 256,
+            "ego_velocity.score_cells_azimuth", "must be in [1, 256]");
+    Require(score_cells_elevation >= 1 && score_cells_elevation <= 256,
+            "ego_velocity.score_cells_elevation", "must be in [1, 256]");
+    Require(refit_iterations >= 0, "ego_velocity.refit_iterations", "must be >= 0");
     Require(trim_mode != TrimMode::kPercent || (trim_value > 0.0 && trim_value <= 1.0),
-            "trim_value", "must be in (0, 1] for trim_mode percent");
-    Require(trim_value > 0.0 && std::isfinite(trim_value), "trim_value", "must be > 0");
-    Require(irls_max_iterations >= 1, "irls_max_iterations", "must be >= 1");
-    Require(min_points >= 4, "min_points", "must be >= 4 (3 unknowns + 1 for the covariance)");
-    Require(min_inliers >= 4, "min_inliers", "must be >= 4");
-    Require(min_inlier_ratio >= 0.0 && min_inlier_ratio <= 1.0, "min_inlier_ratio",
+            "ego_velocity.trim_value", "must be in (0, 1] for trim_mode percent");
+    Require(trim_value > 0.0 && std::isfinite(trim_value), "ego_velocity.trim_value",
+            "must be > 0");
+    Require(irls_max_iterations >= 1, "ego_velocity.irls_max_iterations", "must be >= 1");
+    Require(min_points >= 4, "ego_velocity.min_points",
+            "must be >= 4 (3 unknowns + 1 for the covariance)");
+    Require(min_inliers >= 4, "ego_velocity.min_inliers", "must be >= 4");
+    Require(min_inlier_ratio >= 0.0 && min_inlier_ratio <= 1.0, "ego_velocity.min_inlier_ratio",
             "must be in [0, 1]");
-    Require(max_condition_number > 1.0, "max_condition_number", "must be > 1");
-    Require(max_speed_mps > 0.0, "max_speed_mps", "must be > 0");
+    Require(max_condition_number > 1.0, "ego_velocity.max_condition_number", "must be > 1");
+    Require(max_speed_mps > 0.0, "ego_velocity.max_speed_mps", "must be > 0");
     Require(stationary_speed_mps >= 0.0 && stationary_speed_mps < max_speed_mps,
-            "stationary_speed_mps", "must be in [0, max_speed_mps)");
+            "ego_velocity.stationary_speed_mps", "must be in [0, max_speed_mps)");
     const auto finite_non_negative = [](double x) { return std::isfinite(x) && x >= 0.0; };
-    Require(finite_non_negative(sensor.range_sigma_m), "radar.range_sigma_m", "must be >= 0");
+    Require(finite_non_negative(sensor.range_sigma_m), "ego_velocity.radar.range_sigma_m",
+            "must be >= 0");
     Require(finite_non_negative(sensor.azimuth_sigma_deg) && sensor.azimuth_sigma_deg < 20.0,
-            "radar.azimuth_sigma_deg", "must be in [0, 20)");
+            "ego_velocity.radar.azimuth_sigma_deg", "must be in [0, 20)");
     Require(finite_non_negative(sensor.elevation_sigma_deg) && sensor.elevation_sigma_deg < 20.0,
-            "radar.elevation_sigma_deg", "must be in [0, 20)");
-    Require(finite_non_negative(sensor.doppler_unambiguous_mps), "radar.doppler_unambiguous_mps",
-            "must be >= 0 (0 = no aliasing)");
+            "ego_velocity.radar.elevation_sigma_deg", "must be in [0, 20)");
+    Require(finite_non_negative(sensor.doppler_unambiguous_mps),
+            "ego_velocity.radar.doppler_unambiguous_mps", "must be >= 0 (0 = no aliasing)");
     Require(sensor.doppler_unambiguous_mps == 0.0 ||
                 gate_sigmas * doppler_sigma_mps * max_gate_scale < sensor.doppler_unambiguous_mps,
-            "radar.doppler_unambiguous_mps",
+            "ego_velocity.radar.doppler_unambiguous_mps",
             "must exceed the widest inlier gate gate_sigmas * doppler_sigma_mps * max_gate_scale");
 }
 

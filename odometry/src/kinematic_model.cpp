@@ -111,10 +111,6 @@ VehicleTwist KinematicModel::PlausibleTwist(const VehicleMotion &motion) const {
     return twist;
 }
 
-Eigen::Vector3d KinematicModel::SensorVelocityInBase(const Eigen::Vector3d &v_radar) const {
-    return R_base_radar_ * v_radar;
-}
-
 Eigen::Vector3d KinematicModel::BaseVelocity(const Eigen::Vector3d &v_radar,
                                              const Eigen::Vector3d &omega_base) const {
     return R_base_radar_ * v_radar - omega_base.cross(p_base_radar_);

@@ -87,15 +87,6 @@ struct Workspace {
     std::mt19937_64 rng;
 };
 
-/// X^T Y for two N x 3 matrices, as nine column dot products (Eigen's GEMM path packs and is
-/// several times slower for this shape).
-Eigen::Matrix3d Gram(const Eigen::Matrix<double, Eigen::Dynamic, 3> &X,
-                     const Eigen::Matrix<double, Eigen::Dynamic, 3> &Y);
-
-/// X^T Y when it is known to be symmetric (six dot products).
-Eigen::Matrix3d SymmetricGram(const Eigen::Matrix<double, Eigen::Dynamic, 3> &X,
-                              const Eigen::Matrix<double, Eigen::Dynamic, 3> &Y);
-
 /// One pass: weighted_i = w_i * mask_i and the normal equations with W = diag(weighted).
 NormalEquations Accumulate(const DopplerSystem &system, const Eigen::VectorXd &mask,
                            Eigen::VectorXd &weighted);

@@ -21,22 +21,6 @@ void DopplerSystem::Resize(Eigen::Index n) {
     cell.resize(n);
 }
 
-Eigen::Matrix3d Gram(const Eigen::Matrix<double, Eigen::Dynamic, 3> &X,
-                     const Eigen::Matrix<double, Eigen::Dynamic, 3> &Y) {
-    Eigen::Matrix3d G;
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) G(i, j) = X.col(i).dot(Y.col(j));
-    return G;
-}
-
-Eigen::Matrix3d SymmetricGram(const Eigen::Matrix<double, Eigen::Dynamic, 3> &X,
-                              const Eigen::Matrix<double, Eigen::Dynamic, 3> &Y) {
-    Eigen::Matrix3d G;
-    for (int i = 0; i < 3; ++i)
-        for (int j = i; j < 3; ++j) G(i, j) = G(j, i) = X.col(i).dot(Y.col(j));
-    return G;
-}
-
 void NormalEquations::Add(const NormalEquations &o) {
     for (int k = 0; k < 6; ++k) gram[k] += o.gram[k];
     for (int k = 0; k < 3; ++k) rhs[k] += o.rhs[k];

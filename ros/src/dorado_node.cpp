@@ -6,17 +6,11 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "dorado/core/time.hpp"
 #include "dorado/io/pointcloud_decoder.hpp"
 #include "ros_messages.hpp"
 
 namespace dorado::ros_node {
-namespace {
-
-double MillisecondsSince(std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
-}
-
-}  // namespace
 
 DoradoNode::DoradoNode(ros::NodeHandle &node, NodeSettings settings)
     : settings_(std::move(settings)),

@@ -1,6 +1,7 @@
 // The exported map is the mapper's map: `dorado map`'s map.pcd (MapOutputs) holds exactly the
 // points the mapper added to its own map, where it placed them. On a drive short enough that the
-// map is never cropped, map.pcd equals the mapper's internal map point for point.
+// map is never cropped, map.pcd equals the mapper's internal map point for point. And
+// covariance.csv (CovarianceTable) marks a failed refinement `unrefined`.
 #include <gtest/gtest.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_types.h>
@@ -9,11 +10,14 @@
 #include <array>
 #include <filesystem>
 #include <random>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include "dorado/core/lie.hpp"
 #include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/testing/street_scene.hpp"
+#include "covariance_table.hpp"
 #include "map_outputs.hpp"
 
 namespace dorado::apps {
@@ -92,6 +96,46 @@ TEST(MapOutputs, MapPcdIsTheMappersMapPointForPoint) {
         ASSERT_GT(mapper.cols(), 500);
         EXPECT_EQ(Sorted(pcd), Sorted(mapper)) << mapping::ToString(refinement);
     }
+}
+
+}  // namespace
+}  // namespace dorado::apps
+
+namespace dorado::apps {
+namespace {
+
+// covariance.csv's status says what the output is: a scan registered (no fallback) whose
+// refinement failed (registered.valid false) is `unrefined`, with no registration columns, and
+// its fused columns carry the prior's covariance; the same scan with a valid registration is
+// `fused`. (Issue 29: a failed step 2 used to be written as `fused`.)
+TEST(CovarianceTable, AFailedRefinementIsUnrefinedWithThePriorsCovariance) {
+    frontend::FrontEndResult result;
+    result.stamp_ns = 2'000'000'000;
+    result.prior.covariance = 0.04 * Matrix6d::Identity();
+    result.registration.covariance = result.prior.covariance;  // what the mapper leaves
+    result.registration.registered.valid = false;
+    CovarianceTable table;
+    table.Add(result);
+    result.registration.registered.valid = true;
+    result.registration.registered.covariance = 0.01 * Matrix6d::Identity();
+    table.Add(result);
+    std::vector<std::string> lines;
+    std::string line;
+    std::istringstream text(table.csv());
+    while (std::getline(text, line)) lines.push_back(line);
+    ASSERT_EQ(lines.size(), 3u);
+    EXPECT_EQ(lines[1].rfind("2.000000000,unrefined,", 0), 0u) << lines[1];
+    EXPECT_EQ(lines[2].rfind("2.000000000,fused,", 0), 0u) << lines[2];
+    // The fused block's c_xx is the prior's 0.04; the registration block is empty on the first.
+    const auto field = [](const std::string &row, int index) {
+        std::istringstream cells(row);
+        std::string cell;
+        for (int i = 0; i <= index; ++i) std::getline(cells, cell, ',');
+        return cell;
+    };
+    EXPECT_EQ(field(lines[1], 2 + 7), "0.04");
+    EXPECT_EQ(field(lines[1], 2 + 28), "");
+    EXPECT_EQ(field(lines[2], 2 + 28 + 7), "0.01");
 }
 
 }  // namespace

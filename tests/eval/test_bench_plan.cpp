@@ -130,6 +130,9 @@ grid:
         std::string::npos);
     EXPECT_NE(error_of("grid: {mapp: {}}").find("did you mean 'map'"), std::string::npos);
     EXPECT_NE(error_of("grid: {map: {a.b: [x/y]}}").find("names a directory"), std::string::npos);
+    // A key the settings file would not read fails at plan time, not in every run.
+    EXPECT_NE(error_of("grid: {map: {mapper.max_iteration: [5]}}").find("not a map settings key"),
+              std::string::npos);
     EXPECT_NE(error_of("association: closest").find("must be interpolate or nearest"),
               std::string::npos);
 }

@@ -110,6 +110,52 @@ TEST(PoseInformation, ClusteredModelCountsSharedErrorsOnce) {
     EXPECT_LT(ratio, 20.0);
 }
 
+// The clusters are the map cells (registration_cluster_m) the residuals fall in: 8 surface patches,
+// each 30 map points within one 4 m cell sharing the patch's error. With 4 m cells the model
+// counts 8 clusters and is many times the independent model; with 1 cm cells (every residual its
+// own cluster) the same residuals look independent and the model stays near the independent one.
+TEST(PoseInformation, ClustersAreTheMapCellsOfTheResiduals) {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> within(-0.5, 0.5);
+    std::normal_distribution<double> shared_error(0.0, 0.3), own_error(0.0, 0.03);
+    std::vector<Correspondence> matches;
+    for (int patch = 0; patch < 8; ++patch) {
+        // Cell centres 8 m apart around the sensor, on both sides and at two heights.
+        const Eigen::Vector3d centre(8.0 * (patch % 4) - 10.0, patch < 4 ? 10.0 : -14.0,
+                                     patch % 2 == 0 ? 2.0 : -2.0);
+        const Eigen::Vector3d shared(shared_error(rng), shared_error(rng), shared_error(rng));
+        for (int i = 0; i < 30; ++i) {
+            const Eigen::Vector3d q =
+                centre + Eigen::Vector3d(within(rng), within(rng), within(rng));
+            const Eigen::Vector3d own(own_error(rng), own_error(rng), own_error(rng));
+            matches.push_back({q + shared + own, q, Eigen::Matrix3d::Identity() / 0.3});
+        }
+    }
+    MapperConfig config;
+    config.registration_floor_sigma_translation_m = 0.0;
+    config.registration_floor_sigma_rotation_rad = 0.0;
+    config.registration_covariance = RegistrationCovarianceModel::kIndependent;
+    const auto independent =
+        RegistrationCovariance(Eigen::Isometry3d::Identity(), matches, nullptr, config);
+    config.registration_covariance = RegistrationCovarianceModel::kClustered;
+    config.registration_cluster_m = 4.0;
+    const auto cells =
+        RegistrationCovariance(Eigen::Isometry3d::Identity(), matches, nullptr, config);
+    config.registration_cluster_m = 0.01;
+    const auto points =
+        RegistrationCovariance(Eigen::Isometry3d::Identity(), matches, nullptr, config);
+    ASSERT_TRUE(independent.valid && cells.valid && points.valid);
+    EXPECT_EQ(cells.clusters, 8);
+    EXPECT_EQ(points.clusters, 240);
+    const double cells_ratio = cells.covariance.trace() / independent.covariance.trace();
+    const double points_ratio = points.covariance.trace() / independent.covariance.trace();
+    std::printf("clustered / independent trace: 4 m cells %.2f, 1 cm cells %.2f\n", cells_ratio,
+                points_ratio);
+    EXPECT_GT(cells_ratio, 5.0);
+    EXPECT_LT(points_ratio, 2.0);
+    EXPECT_GT(cells_ratio, 4.0 * points_ratio);
+}
+
 TEST(PoseInformation, FloorIsAddedAndTooFewMatchesAreInvalid) {
     MapperConfig config;
     config.registration_covariance = RegistrationCovarianceModel::kIndependent;
@@ -131,7 +177,6 @@ TEST(PoseInformation, FloorIsAddedAndTooFewMatchesAreInvalid) {
     EXPECT_FALSE(
         RegistrationCovariance(Eigen::Isometry3d::Identity(), matches, nullptr, config).valid);
 }
-
 
 // Degeneracy (Zhang et al. 2016): matches on surfaces whose normals are z (ground) and y (a wall
 // along x) say nothing about x (along the track). With registration_weak_ratio the x direction of

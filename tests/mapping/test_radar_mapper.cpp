@@ -50,6 +50,12 @@ struct DriveResult {
     double mean_rpe_translation_m = 0;
     double mean_rpe_rotation_rad = 0;
     double prior_only_rpe_translation_m = 0;
+    /// The last pose's error against the truth, of the mapper and of the Doppler prior's twists
+    /// alone composed from the first pose (dead reckoning): what the map's lock removes.
+    double final_error_m = 0;
+    double final_error_rad = 0;
+    double prior_only_final_error_m = 0;
+    double prior_only_final_error_rad = 0;
     int fallbacks = 0;
 };
 
@@ -64,7 +70,6 @@ DriveResult Drive(int scans, bool use_mask, Refinement refinement) {
     sim.angle_sigma_rad = 0.002;
     MapperConfig config;
     config.refinement = refinement;
-    if (getenv("DEBUG_NOJUMP")) config.max_prior_mahalanobis_squared = 1e12;
     Extrinsics extrinsics;
     extrinsics.T_base_radar = RadarMount();
     RadarMapper mapper(config, extrinsics);
@@ -122,6 +127,13 @@ DriveResult Drive(int scans, bool use_mask, Refinement refinement) {
         out.mean_rpe_rotation_rad += RotationAngle(e.linear()) / (scans - 1);
     }
     out.prior_only_rpe_translation_m = prior_error_sum / (scans - 1);
+    const Eigen::Isometry3d error = truth[scans - 1].T_world_base.inverse() * estimated.back();
+    const Eigen::Isometry3d prior_error =
+        truth[scans - 1].T_world_base.inverse() * truth[0].T_world_base * dead_reckoning;
+    out.final_error_m = error.translation().norm();
+    out.final_error_rad = RotationAngle(error.linear());
+    out.prior_only_final_error_m = prior_error.translation().norm();
+    out.prior_only_final_error_rad = RotationAngle(prior_error.linear());
     const Eigen::Matrix3Xd map = mapper.local_map().Points();
     for (Eigen::Index i = 0; i < map.cols(); ++i) {
         const Eigen::Vector3d p = map.col(i);
@@ -148,6 +160,9 @@ TEST(RadarMapper, ShortDriveStaysWithinStatedRpe) {
     std::printf("RPE per frame: %.4f m, %.4f deg; Doppler prior alone %.4f m; fallbacks %d\n",
                 r.mean_rpe_translation_m, r.mean_rpe_rotation_rad * 180.0 / M_PI,
                 r.prior_only_rpe_translation_m, r.fallbacks);
+    std::printf("last pose error: %.4f m, %.4f deg; Doppler prior alone %.4f m, %.4f deg\n",
+                r.final_error_m, r.final_error_rad * 180.0 / M_PI, r.prior_only_final_error_m,
+                r.prior_only_final_error_rad * 180.0 / M_PI);
     // Stated accuracy on this sequence (7.5 m/s, 0.75 m per frame): 1 cm and 0.15 deg per frame
     // (measured 5.3 mm, 0.12 deg), and no worse than the Doppler prior it starts from: fused by
     // their information, the registration (cm-noisy per frame) moves the translation little
@@ -157,6 +172,11 @@ TEST(RadarMapper, ShortDriveStaysWithinStatedRpe) {
     EXPECT_LT(r.mean_rpe_translation_m, 1.02 * r.prior_only_rpe_translation_m);
     EXPECT_LT(r.mean_rpe_rotation_rad, 0.15 * M_PI / 180.0);
     EXPECT_EQ(r.fallbacks, 0);
+    // What the registration adds: the map holds the pose where the prior's twists alone drift.
+    // Measured after 40 scans (30 m): 0.092 m, 0.40 deg against 0.277 m, 0.87 deg; with the
+    // registration taken out of the output, the two are equal and this fails.
+    EXPECT_LT(r.final_error_m, 0.5 * r.prior_only_final_error_m);
+    EXPECT_LT(r.final_error_rad, 0.75 * r.prior_only_final_error_rad);
 }
 
 // The window smoother (refinement: window) on the same drive: the same stated accuracy, and at

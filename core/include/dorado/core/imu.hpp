@@ -31,7 +31,6 @@ class ImuWindow {
     [[nodiscard]] Eigen::Vector3d MeanGyro(int64_t t0_ns, int64_t t1_ns) const;
     /// Drops the samples with stamps <= t_ns (used by a scan at t_ns).
     void DropUpTo(int64_t t_ns);
-    void Clear() { samples_.clear(); }
     /// Every buffered sample, in arrival order.
     [[nodiscard]] const std::vector<ImuSample> &samples() const { return samples_; }
     [[nodiscard]] std::size_t size() const { return samples_.size(); }

@@ -2,6 +2,7 @@
 /// @file time.hpp
 /// Time stamps are int64 nanoseconds everywhere; these convert at the edges.
 
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 
@@ -14,6 +15,12 @@ constexpr int64_t kNanosPerSecond = 1'000'000'000;
 }
 [[nodiscard]] inline int64_t SecondsToNanos(double s) {
     return std::llround(s * 1e9);
+}
+
+/// Wall time since @p start [ms]: the per-stage timings of the mapper, the front end and the node.
+[[nodiscard]] inline double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+        .count();
 }
 
 }  // namespace dorado

@@ -21,6 +21,10 @@ struct DopplerObservation {
     double doppler_mps;       ///< measured radial velocity, positive = receding
 };
 
+/// The interval assumed before the first scan, when no earlier stamp gives one [s] (a 10 Hz
+/// radar): the first prior's and the first window state's time step.
+inline constexpr double kFirstScanIntervalS = 0.1;
+
 /// Robust loss of the registration and Doppler residuals (in whitened units).
 enum class RobustKernel { kNone, kHuber, kCauchy, kTukey };
 

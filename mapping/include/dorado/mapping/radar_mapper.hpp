@@ -131,7 +131,7 @@ struct StageTimes {
     double registration_ms = 0.0;  ///< PCL alignment + data association + checks
     double alignment_ms = 0.0;     ///< of which the PCL alignment alone
     double refinement_ms = 0.0;    ///< Ceres
-    double map_update_ms = 0.0;    ///< voxel map update + kd-tree rebuild
+    double map_update_ms = 0.0;    ///< voxel map update + PCL's float copy of the map
     double total_ms = 0.0;
 };
 

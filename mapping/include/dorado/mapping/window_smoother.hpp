@@ -46,7 +46,7 @@ struct WindowConfig {
 
 /// Everything the smoother keeps about one scan.
 struct WindowScan {
-    double dt_s = 0.1;  ///< since the previous scan (ignored for the first)
+    double dt_s = kFirstScanIntervalS;  ///< since the previous scan (ignored for the first)
     Eigen::Isometry3d T_world_base_initial = Eigen::Isometry3d::Identity();
     Eigen::Vector3d v_base_initial = Eigen::Vector3d::Zero();
     Eigen::Vector3d omega_base_initial = Eigen::Vector3d::Zero();

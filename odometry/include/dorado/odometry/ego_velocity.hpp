@@ -121,11 +121,12 @@ struct EgoVelocityConfig {
     /// to the one closest to the hypothesis while RANSAC scores and refits.
     RadarSensorModel sensor;
     /// true: the bias-compensated final fit when the sensor has direction noise; false: eq. (2)'s
-    /// plain weighted least squares. On by default since issue 23: the v_z error budget
+    /// plain weighted least squares. Off by default (opt-in): the v_z error budget
     /// (benchmarks/odometry/vz_error_budget.py) finds elevation noise the one systematic v_z error
     /// of the simulated Husky scans (-3 to -4 mm/s at 1-1.7 m/s, 0.4-0.5 deg/s of pitch rate
     /// through eq. 5), which this removes; pooled over 11 sequences the odometry's roll/pitch
-    /// error drops from 3.9/4.3 to 2.9/3.0 deg (docs/attitude.md).
+    /// error drops from 3.9/4.3 to 2.9/3.0 deg, but the doppler-prior maps' RPE/s rose (pooled
+    /// 0.751 -> 0.839 deg) in the same run (docs/attitude.md).
     bool compensate_direction_noise = false;
 
     // --- validity ---

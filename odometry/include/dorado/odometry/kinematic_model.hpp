@@ -74,16 +74,11 @@ class KinematicModel {
     /// that depends on it through the lever arm, from taking absurd values.
     [[nodiscard]] VehicleTwist PlausibleTwist(const VehicleMotion &motion) const;
 
-    /// d omega_base / d v_radar (constant: the model is linear in v_radar).
-    [[nodiscard]] const Eigen::Matrix3d &OmegaJacobian() const { return J_omega_; }
-    /// d v_base / d v_radar.
+    /// d v_base / d v_radar (constant: the model is linear in v_radar).
     [[nodiscard]] const Eigen::Matrix3d &VelocityJacobian() const { return J_v_base_; }
 
     /// d v_s / d v_radar = R_base_radar.
     [[nodiscard]] const Eigen::Matrix3d &SensorVelocityJacobian() const { return R_base_radar_; }
-
-    /// The sensor velocity in the base frame, v_s = R_base_radar v_radar.
-    [[nodiscard]] Eigen::Vector3d SensorVelocityInBase(const Eigen::Vector3d &v_radar) const;
 
     /// Base velocity when omega comes from elsewhere (a gyro): v_base = v_s - omega x s.
     [[nodiscard]] Eigen::Vector3d BaseVelocity(const Eigen::Vector3d &v_radar,

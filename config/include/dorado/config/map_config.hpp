@@ -4,6 +4,10 @@
 /// the mapper's enum keys.
 
 #include <string>
+#include <vector>
+
+#include "dorado/config/field_yaml.hpp"
+#include "dorado/mapping/mapper_fields.hpp"
 
 #include "dorado/mapping/motion_prior.hpp"
 #include "dorado/mapping/radar_mapper.hpp"
@@ -16,9 +20,22 @@ struct MapCommandConfig {
     double output_voxel_m = 0.3;  ///< density of map.pcd / map.ply / map.png
 };
 
+/// The whole file's fields: mapper.*, prior.*, output.*.
+template <typename Visitor>
+void VisitFields(MapCommandConfig &c, Visitor &&v) {
+    VisitFields(c.mapper, Prefixed{"mapper.", v});
+    VisitFields(c.prior, Prefixed{"prior.", v});
+    v("output.map_voxel_m", c.output_voxel_m, "density of map.pcd / map.ply / map.png [m]");
+}
+
 /// Reads and validates a mapper YAML file. Unknown keys, wrong types and bad values throw
 /// io::ConfigError naming the file and the key (e.g. "mapper.yaml: key 'mapper.scan_voxel_m'").
 [[nodiscard]] MapCommandConfig LoadMapConfig(const std::string &yaml_path);
+
+/// @p config as a mapper YAML file (what LoadMapConfig reads back), each key with its doc.
+[[nodiscard]] std::string MapConfigYaml(const MapCommandConfig &config);
+/// Every key of the mapper file with its built-in default and doc.
+[[nodiscard]] std::vector<FieldRow> MapConfigFields();
 
 /// mapping::ParsePriorKind, throwing io::ConfigError naming `what` (a key or a flag).
 [[nodiscard]] mapping::PriorKind ParsePriorKindKey(const std::string &text,

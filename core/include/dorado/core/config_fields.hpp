@@ -1,0 +1,46 @@
+#pragma once
+/// @file config_fields.hpp
+/// The protocol of the config structs' field lists (`VisitFields(Config &, Visitor &&)` next to
+/// each struct): every configurable member is listed ONCE, with its key and a one-line doc, and
+/// the YAML reader, the writer (`dorado config print`), the docs' key tables and the tests that
+/// the shipped configs/*.yaml equal the built-in defaults all walk that one list. No YAML here.
+///
+/// A visitor is any callable with these overloads:
+///   v(const char *key, T &member, const char *doc)                 T: bool, int, double,
+///                                                                  uint64_t, Eigen::Vector3d
+///   v(const char *key, E &member, const Choices<E> &names, const char *doc)   E: an enum
+/// `key` is dotted relative to the struct ("map.voxel_size_m"); a struct that holds another
+/// struct's fields under a section passes Prefixed{"section.", v} to that struct's VisitFields.
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace dorado {
+
+/// The one spelling of each value of a config enum, in the order the docs list them.
+template <typename E>
+using Choices = std::vector<std::pair<const char *, E>>;
+
+/// A visitor that forwards to another with "prefix" prepended to every key.
+template <typename Visitor>
+struct Prefixed {
+    const char *prefix;
+    Visitor &visitor;
+
+    template <typename T>
+    void operator()(const char *key, T &member, const char *doc) const {
+        const std::string full = std::string(prefix) + key;
+        visitor(full.c_str(), member, doc);
+    }
+    template <typename E>
+    void operator()(const char *key, E &member, const Choices<E> &names, const char *doc) const {
+        const std::string full = std::string(prefix) + key;
+        visitor(full.c_str(), member, names, doc);
+    }
+};
+
+template <typename Visitor>
+Prefixed(const char *, Visitor &) -> Prefixed<Visitor>;
+
+}  // namespace dorado

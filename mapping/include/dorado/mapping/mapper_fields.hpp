@@ -1,0 +1,138 @@
+#pragma once
+/// @file mapper_fields.hpp
+/// The mapper's configurable fields, listed once (core/config_fields.hpp): keys as in
+/// configs/mapper.yaml's `mapper:` and `prior:` sections. The defaults are the structs'.
+
+#include "dorado/core/config_fields.hpp"
+#include "dorado/mapping/motion_prior.hpp"
+#include "dorado/mapping/radar_mapper.hpp"
+
+namespace dorado::mapping {
+
+inline Choices<RegistrationMethod> RegistrationMethodChoices() {
+    return {{ToString(RegistrationMethod::kPointToPoint), RegistrationMethod::kPointToPoint},
+            {ToString(RegistrationMethod::kPointToPlane), RegistrationMethod::kPointToPlane},
+            {ToString(RegistrationMethod::kGicp), RegistrationMethod::kGicp}};
+}
+inline Choices<Refinement> RefinementChoices() {
+    return {{ToString(Refinement::kCeres), Refinement::kCeres},
+            {ToString(Refinement::kWindow), Refinement::kWindow},
+            {ToString(Refinement::kNone), Refinement::kNone}};
+}
+inline Choices<RobustKernel> RobustKernelChoices() {
+    return {{ToString(RobustKernel::kNone), RobustKernel::kNone},
+            {ToString(RobustKernel::kHuber), RobustKernel::kHuber},
+            {ToString(RobustKernel::kCauchy), RobustKernel::kCauchy},
+            {ToString(RobustKernel::kTukey), RobustKernel::kTukey}};
+}
+inline Choices<RegistrationCovarianceModel> RegistrationCovarianceChoices() {
+    using M = RegistrationCovarianceModel;
+    return {{ToString(M::kIndependent), M::kIndependent},
+            {ToString(M::kResidualScale), M::kResidualScale},
+            {ToString(M::kClustered), M::kClustered}};
+}
+
+template <typename Visitor>
+void VisitFields(LocalMapConfig &c, Visitor &&v) {
+    v("voxel_size_m", c.voxel_size_m, "map resolution and the cell of its search hash [m]");
+    v("max_points_per_voxel", c.max_points_per_voxel, "points kept per map voxel");
+    v("max_distance_m", c.max_distance_m,
+      "voxels farther than this from the vehicle are dropped [m]");
+}
+
+template <typename Visitor>
+void VisitFields(WindowConfig &c, Visitor &&v) {
+    v("size", c.size, "K free states (scans) of the fixed-lag smoother");
+    v("qc_linear", c.qc_linear, "white-noise-on-acceleration PSD, linear, per base axis [m^2/s^3]");
+    v("qc_angular", c.qc_angular,
+      "white-noise-on-acceleration PSD, angular, per base axis [rad^2/s^3]");
+    v("use_kinematic_model", c.use_kinematic_model, "the paper's eq. 3-4 as a soft factor");
+    v("gyro_sigma_radps", c.gyro_sigma_radps, "gyro factor: per-scan mean rate noise [rad/s]");
+    v("gyro_bias_sigma_radps", c.gyro_bias_sigma_radps, "prior on the gyro bias [rad/s]");
+    v("max_iterations", c.max_iterations, "Ceres iterations per scan");
+}
+
+template <typename Visitor>
+void VisitFields(MapperConfig &c, Visitor &&v) {
+    v("min_range_m", c.min_range_m, "closer returns are dropped [m]");
+    v("max_range_m", c.max_range_m, "farther returns are dropped [m]");
+    v("scan_voxel_m", c.scan_voxel_m, "voxel of the downsampled scan that is registered [m]");
+    v("max_source_points", c.max_source_points, "then evenly thinned to at most this many");
+    VisitFields(c.map, Prefixed{"map.", v});
+    v("keyframe_distance_m", c.keyframe_distance_m,
+      "map updated after this distance [m] (0 and 0: every scan)");
+    v("keyframe_angle_deg", c.keyframe_angle_deg, "...or this rotation [deg]");
+    v("update_map_on_fallback", c.update_map_on_fallback,
+      "a scan placed at the prior still fills the map");
+    v("method", c.method, RegistrationMethodChoices(), "PCL registration");
+    v("max_iterations", c.max_iterations, "PCL registration iterations");
+    v("initial_threshold_m", c.initial_threshold_m,
+      "adaptive correspondence threshold at the start [m]");
+    v("min_threshold_m", c.min_threshold_m, "lower bound of the adaptive threshold [m]");
+    v("min_motion_m", c.min_motion_m, "smaller corrections do not feed the adaptive threshold [m]");
+    v("covariance_neighbours", c.covariance_neighbours,
+      "k of the map's local planes (plane, GICP)");
+    v("refinement", c.refinement, RefinementChoices(), "the Doppler-aware refinement after PCL");
+    v("kernel", c.kernel, RobustKernelChoices(),
+      "robust loss of the registration and Doppler residuals");
+    v("kernel_scale", c.kernel_scale, "of the robust loss, in whitened units (sigmas)");
+    v("point_sigma_m", c.point_sigma_m,
+      "radar point noise that whitens the registration residuals [m]");
+    v("plane_flatness", c.plane_flatness,
+      "GICP-style eigenvalue of a map neighbourhood's normal axis");
+    v("doppler_sigma_mps", c.doppler_sigma_mps, "Doppler residual noise [m/s]");
+    v("use_doppler", c.use_doppler, "Doppler residuals (priors not built from them only)");
+    v("max_registration_residuals", c.max_registration_residuals,
+      "evenly thinned matches given to Ceres");
+    v("max_doppler_residuals", c.max_doppler_residuals, "Doppler residuals given to Ceres");
+    v("refine_max_iterations", c.refine_max_iterations, "Ceres iterations of the refinement");
+    v("refine_outer_iterations", c.refine_outer_iterations, "re-association rounds");
+    v("registration_covariance", c.registration_covariance, RegistrationCovarianceChoices(),
+      "how the registration's residuals count against the prior");
+    v("registration_cluster_m", c.registration_cluster_m,
+      "cell of the clustered model's groups [m]");
+    v("registration_floor_sigma_translation_m", c.registration_floor_sigma_translation_m,
+      "registration noise no residual shows, added per axis [m]");
+    v("registration_floor_sigma_rotation_rad", c.registration_floor_sigma_rotation_rad,
+      "registration noise no residual shows, added per axis [rad]");
+    v("registration_weak_ratio", c.registration_weak_ratio,
+      "degeneracy-aware registration: weak eigenvalue fraction (0: off)");
+    v("doppler_in_registration", c.doppler_in_registration,
+      "doppler priors: Doppler residuals join the registered pose's step too");
+    VisitFields(c.window, Prefixed{"window.", v});
+    v("min_correspondences", c.min_correspondences, "fewer matches: fall back to the prior");
+    v("max_rms_m", c.max_rms_m, "a larger correspondence RMS: fall back to the prior [m]");
+    v("min_observability", c.min_observability,
+      "lambda_min / lambda_max of the point-to-plane information");
+    v("max_prior_mahalanobis_squared", c.max_prior_mahalanobis_squared,
+      "jump test: farther from the prior falls back");
+    v("registration_sigma_translation_m", c.registration_sigma_translation_m,
+      "jump test: registration noise [m]");
+    v("registration_sigma_rotation_rad", c.registration_sigma_rotation_rad,
+      "jump test: registration noise [rad]");
+    v("jump_gate_innovation", c.jump_gate_innovation,
+      "jump test on the innovation instead of the sigmas above");
+}
+
+template <typename Visitor>
+void VisitFields(PriorNoiseConfig &c, Visitor &&v) {
+    v("none_sigma_translation_m", c.none_sigma_translation_m,
+      "`none`: motion since the previous scan, 1 sigma [m]");
+    v("none_sigma_rotation_rad", c.none_sigma_rotation_rad,
+      "`none`: rotation since the previous scan [rad]");
+    v("constvel_sigma_accel_mps2", c.constvel_sigma_accel_mps2,
+      "`constvel`: unmodelled acceleration [m/s^2]");
+    v("constvel_sigma_angular_accel_radps2", c.constvel_sigma_angular_accel_radps2,
+      "`constvel`: unmodelled angular acceleration [rad/s^2]");
+    v("imu_gyro_sigma_radps", c.imu_gyro_sigma_radps, "`imu`: gyro noise [rad/s]");
+    v("imu_accel_sigma_mps2", c.imu_accel_sigma_mps2, "`imu`: accelerometer noise [m/s^2]");
+    v("imu_velocity_sigma_mps", c.imu_velocity_sigma_mps,
+      "`imu`: start velocity of the integration [m/s]");
+    v("gravity_world_mps2", c.gravity_world_mps2, "gravity in the world frame [m/s^2]");
+    v("doppler_min_sigma_v_mps", c.doppler_min_sigma_v_mps,
+      "`doppler`: floor on the velocity sigma [m/s]");
+    v("doppler_min_sigma_omega_radps", c.doppler_min_sigma_omega_radps,
+      "`doppler`: floor on the angular-rate sigma, per axis [rad/s]");
+}
+
+}  // namespace dorado::mapping
