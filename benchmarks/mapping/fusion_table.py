@@ -3,7 +3,8 @@
 rot [deg] / RPE per frame trans [mm] / rot [deg] / map fallbacks (jump fallbacks) and the pooled mean over sequences,
 from a `dorado bench` output folder (results.csv, bench_runs.csv, each map run's summary.json).
 
-    fusion_table.py DIR [--methods odom_doppler map_doppler@refinement=ceres ...]
+    fusion_table.py DIR [DIR ...] [--methods odom_doppler map_doppler@refinement=ceres ...]
+(several DIRs of the same sequences, e.g. runs of the same data with other grids, are merged)
 """
 import argparse
 import csv
@@ -17,25 +18,37 @@ METRICS = [("ate", "m", 1.0, 3), ("rpe_second_translation", "m", 1000.0, 1), ("r
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("dir")
+    ap.add_argument("dirs", nargs="+")
     ap.add_argument("--methods", nargs="*")
     args = ap.parse_args()
     values = defaultdict(dict)
     sequences, methods = [], []
-    with open(os.path.join(args.dir, "results.csv")) as f:
-        for row in csv.DictReader(f):
-            s, m = row["sequence"], row["method"]
-            if s not in sequences:
-                sequences.append(s)
-            if m not in methods:
-                methods.append(m)
-            key = row["metric"]
-            values[(s, m)][key] = float(row["rmse"] if key.startswith("ate") else row["mean"])
-    methods = args.methods or methods
     runs = {}
-    with open(os.path.join(args.dir, "bench_runs.csv")) as f:
-        for row in csv.DictReader(f):
-            runs[(row["sequence"], row["method"])] = row["run_dir"]
+    for d in args.dirs:
+        with open(os.path.join(d, "results.csv")) as f:
+            reader = csv.reader(f)
+            header = next(reader)
+            for cells in reader:
+                # a grid variant of two keys has a comma in its name, which results.csv does not quote
+                extra = len(cells) - len(header)
+                cells = [cells[0], ",".join(cells[1:2 + extra])] + cells[2 + extra:]
+                row = dict(zip(header, cells))
+                s, m = row["sequence"], row["method"]
+                if s not in sequences:
+                    sequences.append(s)
+                if m not in methods:
+                    methods.append(m)
+                key = row["metric"]
+                values[(s, m)][key] = float(row["rmse"] if key.startswith("ate") else row["mean"])
+        with open(os.path.join(d, "bench_runs.csv")) as f:
+            reader = csv.reader(f)
+            header = next(reader)
+            for cells in reader:
+                extra = (len(cells) - len(header)) // 2  # the method's commas, repeated in run_dir
+                method = ",".join(cells[1:2 + extra])
+                runs[(cells[0], method)] = ",".join(cells[2 + extra:3 + 2 * extra])
+    methods = args.methods or methods
+    sequences = [s for s in sequences if s != "all"]  # the pooled mean is computed below
 
     def cell(s, m):
         v = values.get((s, m), {})
@@ -61,7 +74,7 @@ def main():
             xs = [scale * v[k] for s in sequences for v in [values.get((s, m), {})] for k in v if k.startswith(name)]
             parts.append(f"{sum(xs) / len(xs):.{digits}f}" if xs else "-")
         pooled.append(" / ".join(parts))
-    print("| mean | " + " | ".join(pooled) + " |")
+    print("| mean of the sequences | " + " | ".join(pooled) + " |")
 
 
 if __name__ == "__main__":
