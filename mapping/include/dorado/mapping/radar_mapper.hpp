@@ -166,7 +166,9 @@ struct RegistrationResult {
     /// MotionPrior's convention): the fused information of the prior, the registration and the
     /// Doppler residuals. The prior's covariance on a fallback or when the refinement fails; zero
     /// on the first scan (the map's origin). It is the uncertainty of this scan's motion relative
-    /// to the map and the previous pose, not the accumulated drift of the map.
+    /// to the map and the previous pose, not the accumulated drift of the map. With refinement
+    /// filter: the covariance of the motion from the previous output pose (filter_covariance
+    /// below is the pose's own).
     Matrix6d covariance = Matrix6d::Zero();
     RegisteredPose registered;  ///< the registration's estimate that T_world_base fuses
     /// refinement filter: the covariance of T_world_base relative to the map (the filter's state,
