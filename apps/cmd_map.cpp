@@ -108,7 +108,8 @@ void RegisterMapCommand(CLI::App &app) {
                     "odometry`)");
     cmd->add_flag("--no-mask", opt->no_mask, "keep the dynamic points (ablation)");
     cmd->add_option("--refine", opt->refine,
-                    "ceres (default), window (fixed-lag smoother) or none (PCL registration only)");
+                    "ceres (default), window (fixed-lag smoother), none (PCL registration only) or "
+                    "filter (ceres, the output an error-state filter over the map chain)");
     cmd->callback([opt] { RunMap(*opt); });
 }
 

@@ -64,8 +64,12 @@ void MapOutputs::Add(const frontend::FrontEndResult &result) {
         ++fallbacks_;
         fallback_reasons_[mapping::ToString(r.fallback_cause)]++;
         // The young map (its first seconds) apart: a small map registers worse.
-        if (NanosToSeconds(result.stamp_ns - first_stamp_ns_) < kYoungMapS)
+        const double since_start_s = NanosToSeconds(result.stamp_ns - first_stamp_ns_);
+        if (since_start_s < kYoungMapS)
             young_map_fallback_reasons_[mapping::ToString(r.fallback_cause)]++;
+        const auto bin = static_cast<std::size_t>(std::max(0.0, since_start_s / kYoungMapS));
+        if (fallbacks_by_time_.size() <= bin) fallbacks_by_time_.resize(bin + 1, 0);
+        ++fallbacks_by_time_[bin];
     }
     ++scans_;
     if (!result.prior_substitution.empty()) prior_substitutions_[result.prior_substitution]++;
@@ -110,6 +114,7 @@ nlohmann::json MapOutputs::Summary() const {
             {"fallback_rate", scans_ > 0 ? static_cast<double>(fallbacks_) / scans_ : 0.0},
             {"fallback_reasons", fallback_reasons_},
             {"fallback_reasons_first_5s", young_map_fallback_reasons_},
+            {"fallbacks_per_5s", fallbacks_by_time_},
             {"prior_substitutions_constvel", prior_substitutions_},
             {"scans_without_mask", unmasked_},
             {"time_per_scan_ms",

@@ -6,6 +6,10 @@ consistency of their covariances by NEES.
     fusion_nees.py --truth DATA/true_trajectory.tum --run MAPDIR [--name NAME] ...   (pairs repeat)
     fusion_nees.py ... --check-fused-nees LO HI    exit 1 unless every run's fused 1-frame mean NEES
                                                     lies in [LO, HI] (a test's gate)
+    fusion_nees.py ... --check-block-nees LO HI    the same per 3-dof block (translation, rotation)
+    fusion_nees.py ... --fused-covariance prior    score the fused pose with the prior's (or the
+                                                    registration's) covariance: what a mapper that
+                                                    reported that one would be scored (a test's mutation)
 
 Per scan k (both k-1 and k registered), with T_{k-1} the mapper's previous (fused) pose, the
 motion of source X is D_X = T_{k-1}^-1 T_X,k and its error xi = Log(D_X^-1 D_true) (right
@@ -150,11 +154,12 @@ def nees(xi, C):
         return float("inf")
 
 
-def score(truth, rows, second_frames):
+def score(truth, rows, second_frames, fused_covariance="fused"):
     sources = ("prior", "registration", "fused")
     err = {s: [] for s in sources}
     ne = {s: [] for s in sources}
     ne_1s = []
+    ne_block = {"trans": [], "rot": []}
     true_poses = [truth.at(r["t"]) for r in rows]
     for k in range(1, len(rows)):
         prev, cur = rows[k - 1], rows[k]
@@ -162,13 +167,20 @@ def score(truth, rows, second_frames):
             continue
         T_prev = prev["fused"][0]
         D_true = inv(true_poses[k - 1]) @ true_poses[k]
+        if fused_covariance not in cur:
+            continue
         for s in sources:
             if s not in cur:
                 continue
             T, C = cur[s]
+            if s == "fused":
+                C = cur[fused_covariance][1]
             xi = log_se3(inv(inv(T_prev) @ T) @ D_true)
             err[s].append(xi)
             ne[s].append(nees(xi, C))
+            if s == "fused":
+                ne_block["trans"].append(nees(xi[:3], C[:3, :3]))
+                ne_block["rot"].append(nees(xi[3:], C[3:, 3:]))
         n = second_frames
         if k >= n and all(rows[i]["status"] == "fused" for i in range(k - n + 1, k + 1)) \
                 and true_poses[k - n] is not None:
@@ -181,7 +193,7 @@ def score(truth, rows, second_frames):
             D_est = inv(rows[k - n]["fused"][0]) @ T_k
             D_true_n = inv(true_poses[k - n]) @ true_poses[k]
             ne_1s.append(nees(log_se3(inv(D_est) @ D_true_n), C_sum))
-    return err, ne, ne_1s
+    return err, ne, ne_1s, ne_block
 
 
 def scan_rate_hz(rows):
@@ -206,6 +218,10 @@ def main():
     ap.add_argument("--scan-rate-hz", type=float, default=None,
                     help="frames per second for the 1 s NEES (default: each run's median scan interval)")
     ap.add_argument("--check-fused-nees", nargs=2, type=float, metavar=("LO", "HI"))
+    ap.add_argument("--check-block-nees", nargs=2, type=float, metavar=("LO", "HI"),
+                    help="the fused 1-frame mean NEES of each 3-dof block (translation, rotation)")
+    ap.add_argument("--fused-covariance", choices=("fused", "prior", "registration"), default="fused",
+                    help="the covariance the fused pose is scored with (a test's mutation)")
     ap.add_argument("--scale-covariance", type=float, default=1.0,
                     help="multiply every covariance read (a test shows that a wrong scale fails the gate)")
     args = ap.parse_args()
@@ -214,14 +230,14 @@ def main():
     names = args.name or [r.rstrip("/").split("/")[-1] for r in args.run]
     print("| sequence | frames | per-frame trans [mm] prior / reg / fused | per-frame rot [deg] prior / reg / fused "
           "| mean NEES 1 frame prior / reg / fused | fused NEES in 95 % per-sample band | mean NEES 1 s (fused) "
-          "| mean's 95 % band (1 frame) |")
-    print("|---|---:|---|---|---|---:|---:|---|")
+          "| mean's 95 % band (1 frame) | mean NEES 1 frame fused trans / rot (3 dof) |")
+    print("|---|---:|---|---|---|---:|---:|---|---|")
     ok = True
     for truth_path, run, name in zip(args.truth, args.run, names):
         truth = Truth(truth_path)
         rows = read_covariance_csv(run.rstrip("/") + "/covariance.csv", args.scale_covariance)
         rate_hz = args.scan_rate_hz or scan_rate_hz(rows)
-        err, ne, ne_1s = score(truth, rows, max(1, int(round(rate_hz))))
+        err, ne, ne_1s, ne_block = score(truth, rows, max(1, int(round(rate_hz))), args.fused_covariance)
         N = len(ne["fused"])
         if N == 0:
             print(f"| {name} | 0 | no fused scans matched the truth's stamps |")
@@ -233,13 +249,23 @@ def main():
         rot = " / ".join(f"{math.degrees(rmse(err[s], slice(3, 6))):.3f}" for s in ("prior", "registration", "fused"))
         nm = " / ".join(f"{np.mean(ne[s]):.2f}" if ne[s] else "-" for s in ("prior", "registration", "fused"))
         m1s = f"{np.mean(ne_1s):.2f}" if ne_1s else "-"
-        print(f"| {name} | {N} | {tr} | {rot} | {nm} | {100 * inside:.0f} % | {m1s} | [{band[0]:.2f}, {band[1]:.2f}] |")
+        blocks = f"{np.mean(ne_block['trans']):.2f} / {np.mean(ne_block['rot']):.2f}"
+        print(f"| {name} | {N} | {tr} | {rot} | {nm} | {100 * inside:.0f} % | {m1s} | [{band[0]:.2f}, {band[1]:.2f}] "
+              f"| {blocks} |")
         if args.check_fused_nees:
             lo, hi = args.check_fused_nees
             mean = float(np.mean(ne["fused"]))
             if not (lo <= mean <= hi):
                 print(f"fusion_nees.py: {name}: fused mean NEES {mean:.2f} outside [{lo}, {hi}]", file=sys.stderr)
                 ok = False
+        if args.check_block_nees:
+            lo, hi = args.check_block_nees
+            for block in ("trans", "rot"):
+                mean = float(np.mean(ne_block[block]))
+                if not (lo <= mean <= hi):
+                    print(f"fusion_nees.py: {name}: fused {block} mean NEES {mean:.2f} outside [{lo}, {hi}]",
+                          file=sys.stderr)
+                    ok = False
     return 0 if ok else 1
 
 

@@ -86,14 +86,16 @@ const char *ToString(Refinement refinement) {
             return "ceres";
         case Refinement::kWindow:
             return "window";
+        case Refinement::kFilter:
+            return "filter";
     }
     return "?";
 }
 
 Refinement ParseRefinement(const std::string &name) {
-    for (auto r : {Refinement::kNone, Refinement::kCeres, Refinement::kWindow})
+    for (auto r : {Refinement::kNone, Refinement::kCeres, Refinement::kWindow, Refinement::kFilter})
         if (name == ToString(r)) return r;
-    throw std::invalid_argument("unknown refinement '" + name + "' (none, ceres, window)");
+    throw std::invalid_argument("unknown refinement '" + name + "' (none, ceres, window, filter)");
 }
 
 RegistrationMethod ParseRegistrationMethod(const std::string &name) {

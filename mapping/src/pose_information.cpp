@@ -85,6 +85,34 @@ Eigen::Matrix<double, 7, 6> RightPerturbationLift(const Eigen::Quaterniond &q) {
     return lift;
 }
 
+Matrix6d AdjointSE3(const Eigen::Isometry3d &T) {
+    Matrix6d Ad = Matrix6d::Zero();
+    const Eigen::Matrix3d R = T.linear();
+    Ad.topLeftCorner<3, 3>() = R;
+    Ad.topRightCorner<3, 3>() = Hat(T.translation()) * R;
+    Ad.bottomRightCorner<3, 3>() = R;
+    return Ad;
+}
+
+Matrix6d InnovationInformation(const Matrix6d &C_predicted,
+                               const Matrix6d &registration_information) {
+    const Matrix6d &I_R = registration_information;
+    const Matrix6d posterior =
+        CovarianceFromInformation(CovarianceFromInformation(C_predicted) + I_R);
+    const Matrix6d S_inv = I_R - I_R * posterior * I_R;
+    return 0.5 * (S_inv + S_inv.transpose());
+}
+
+Matrix6d FilterMotionCovariance(const Matrix6d &P_predicted, const Matrix6d &Q, const Matrix6d &P) {
+    const Matrix6d P_predicted_inv = CovarianceFromInformation(P_predicted);
+    const Matrix6d I_measured = CovarianceFromInformation(P) - P_predicted_inv;
+    const Matrix6d I_minus_K = P * P_predicted_inv;
+    const Matrix6d K = Matrix6d::Identity() - I_minus_K;
+    const Matrix6d motion = K * (P_predicted - Q) * K.transpose() +
+                            I_minus_K * Q * I_minus_K.transpose() + P * I_measured * P;
+    return 0.5 * (motion + motion.transpose());
+}
+
 Matrix6d CovarianceFromInformation(const Matrix6d &information) {
     const Matrix6d regularised = information + 1e-12 * Matrix6d::Identity();
     const Matrix6d covariance = regularised.ldlt().solve(Matrix6d::Identity());
@@ -158,7 +186,8 @@ RegisteredPose RegistrationCovariance(const Eigen::Isometry3d &T_world_base,
     out.covariance = model + FloorCovariance(config);
     out.information = CovarianceFromInformation(out.covariance);
     if (config.registration_weak_ratio > 0.0) {
-        out.strong_projector = StrongProjector(H, config.registration_weak_ratio, out.weak_directions);
+        out.strong_projector =
+            StrongProjector(H, config.registration_weak_ratio, out.weak_directions);
         if (out.weak_directions > 0) {
             out.information = out.strong_projector * out.information * out.strong_projector;
             out.information = 0.5 * (out.information + out.information.transpose());

@@ -75,6 +75,7 @@ struct Refined {
     Eigen::Isometry3d T_map = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
     Matrix6d covariance = Matrix6d::Zero();
+    std::optional<Matrix6d> filter_covariance;  ///< refinement filter: the posterior P
     RegisteredPose registered;
     Association association;
     int doppler_residuals = 0;
@@ -108,6 +109,9 @@ struct RadarMapper::State {
     int fallbacks = 0;
     std::optional<WindowSmoother> window;  ///< refinement = kWindow
     bool planar = false;                   ///< a 2D radar: registration in the plane
+    /// refinement = kFilter: the covariance of T_world_base_last relative to the map (zero at the
+    /// first scan, the map's origin).
+    Matrix6d filter_covariance = Matrix6d::Zero();
 
     State(const MapperConfig &c, const Extrinsics &e, const VehicleGeometry &g)
         : config(c),
@@ -213,9 +217,8 @@ double InnovationMahalanobisSquared(const MotionPrior &prior, const Eigen::Isome
         RegistrationCovariance(T_world_base, association.matches, loss.get(), config);
     if (!registration.valid)
         return PriorMahalanobisSquared(WidenedPrior(prior, config), T_world_base);
-    MotionPrior innovation = prior;
-    innovation.covariance += registration.covariance;
-    return PriorMahalanobisSquared(innovation, T_world_base);
+    const Vector6d delta = LogSE3(prior.T_world_base.inverse() * T_world_base);
+    return delta.dot(InnovationInformation(prior.covariance, registration.information) * delta);
 }
 
 // Why a registration is not trusted (kNone when it is), with the numbers: convergence, support,
@@ -233,8 +236,7 @@ std::pair<FallbackCause, std::string> CheckRegistration(const PclAlignment &alig
         return {FallbackCause::kDegenerate,
                 "observability " + std::to_string(association.observability)};
     if (prior_mahalanobis_squared > config.max_prior_mahalanobis_squared)
-        return {FallbackCause::kJump,
-                "Mahalanobis^2 " + std::to_string(prior_mahalanobis_squared)};
+        return {FallbackCause::kJump, "Mahalanobis^2 " + std::to_string(prior_mahalanobis_squared)};
     return {FallbackCause::kNone, ""};
 }
 
@@ -248,10 +250,10 @@ std::pair<FallbackCause, std::string> CheckRegistration(const PclAlignment &alig
 Refined RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
                                    const std::vector<DopplerObservation> &doppler_all,
                                    const MotionPrior &prior_map, const MotionPrior &prior,
-                                   double dt_s, double threshold_m,
-                                   const Association &association,
+                                   double dt_s, double threshold_m, const Association &association,
                                    const Eigen::Isometry3d &T_aligned) const {
-    const bool ceres = config.refinement == Refinement::kCeres;
+    const bool filter = config.refinement == Refinement::kFilter;
+    const bool ceres = config.refinement == Refinement::kCeres || filter;  // two chains
     Refined out;
     out.T_map = T_aligned;
     out.T_world_base = ceres ? prior.T_world_base : T_aligned;
@@ -290,6 +292,11 @@ Refined RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
             out.T_map = refined.registered.T_world_base;
             out.T_world_base = refined.T_world_base;
             out.covariance = refined.covariance;
+            if (filter) {  // prior carries the filter's prediction P^-, prior_map the one step's
+                out.filter_covariance = refined.covariance;
+                out.covariance = FilterMotionCovariance(prior.covariance, prior_map.covariance,
+                                                        refined.covariance);
+            }
         } else {  // none: PCL's pose; the window smoother's covariance is set after it
             out.covariance = refined.registered.covariance;
         }
@@ -345,8 +352,8 @@ MapRegistration RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source
     if (out.cause != FallbackCause::kNone) return out;
 
     const auto t_refine = Clock::now();
-    out.refined = Refine(source_base, doppler, prior_map, prior, dt_s, threshold_m,
-                         out.association, aligned.T_world_base);
+    out.refined = Refine(source_base, doppler, prior_map, prior, dt_s, threshold_m, out.association,
+                         aligned.T_world_base);
     out.refinement_ms = MillisecondsSince(t_refine);
     // kiss-icp: the threshold adapts to how far registration corrected the prior.
     threshold.Update(prior_map.T_world_base.inverse() * out.refined.T_map);
@@ -384,9 +391,19 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
     // 2-3. Registration and refinement, or the prior. The prior moved onto the map's chain: the
     //      same motion from the map's previous pose.
     MotionPrior prior_map = prior;
+    const bool filter = config.refinement == Refinement::kFilter;
     if (s.has_pose)
         prior_map.T_world_base =
             s.T_map_base_last * s.T_world_base_last.inverse() * prior.T_world_base;
+    // The output chain's prior (refinement filter: with the filter's prediction of its covariance
+    // relative to the map chain, P^- = Ad(D^-1) P Ad(D^-1)^T + C_prior).
+    MotionPrior prior_output = prior;
+    if (filter && s.has_pose) {
+        const Matrix6d Ad =
+            AdjointSE3((s.T_world_base_last.inverse() * prior.T_world_base).inverse());
+        prior_output.covariance = Ad * s.filter_covariance * Ad.transpose() + prior.covariance;
+    }
+    Matrix6d filter_covariance = prior_output.covariance;  // kept on a fallback or a failed update
     Eigen::Isometry3d T_map = prior_map.T_world_base;
     std::vector<Correspondence> window_matches;
     if (s.map.empty()) {
@@ -415,8 +432,8 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
             s.threshold.Update(prior_map.T_world_base.inverse() * reg.T_map);
         }
     } else {
-        const MapRegistration reg =
-            s.RegisterToMap(source_base, points.doppler, prior_map, prior, dt_s, result.threshold_m);
+        const MapRegistration reg = s.RegisterToMap(source_base, points.doppler, prior_map,
+                                                    prior_output, dt_s, result.threshold_m);
         result.fallback_cause = reg.cause;
         result.fallback_detail = reg.detail;
         result.observability = reg.association.observability;
@@ -432,6 +449,7 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
             result.T_world_base = refined.T_world_base;
             result.covariance = refined.covariance;
             result.registered = refined.registered;
+            if (refined.filter_covariance) filter_covariance = *refined.filter_covariance;
             result.correspondences = refined.association.count;
             result.fitness_rms_m = refined.association.rms_m;
             result.doppler_residuals = refined.doppler_residuals;
@@ -455,7 +473,12 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
                 CovarianceFromInformation(CovarianceFromInformation(prior.covariance) +
                                           CovarianceFromInformation(result.registered.covariance));
     }
-    if (config.refinement != Refinement::kCeres) T_map = result.T_world_base;  // one chain
+    if (config.refinement != Refinement::kCeres && !filter)
+        T_map = result.T_world_base;  // one chain
+    if (filter) {
+        s.filter_covariance = result.first_scan ? Matrix6d::Zero() : filter_covariance;
+        result.filter_covariance = s.filter_covariance;
+    }
 
     // 4. Map update (keyframes only, when configured).
     const auto t_map = Clock::now();

@@ -63,10 +63,9 @@ void RunDrive(mapping::Refinement refinement, Eigen::Matrix3Xd &pcd_points,
     MapOutputs outputs;
     int fallbacks = 0;
     for (int k = 0; k < 60; ++k) {
-        RadarScan scan =
-            SimulateScan(world, truth[k].T_world_base, Mount().T_base_radar, truth[k].v_base,
-                         truth[k].omega_base, Eigen::Matrix3Xd(3, 0), Eigen::Vector3d::Zero(), sim,
-                         rng, nullptr);
+        RadarScan scan = SimulateScan(world, truth[k].T_world_base, Mount().T_base_radar,
+                                      truth[k].v_base, truth[k].omega_base, Eigen::Matrix3Xd(3, 0),
+                                      Eigen::Vector3d::Zero(), sim, rng, nullptr);
         scan.stamp_ns = 1'000'000'000 + k * 100'000'000LL;
         const frontend::FrontEndResult result = front_end.Process(scan);
         ASSERT_TRUE(result.accepted);
@@ -90,7 +89,7 @@ void RunDrive(mapping::Refinement refinement, Eigen::Matrix3Xd &pcd_points,
 
 TEST(MapOutputs, MapPcdIsTheMappersMapPointForPoint) {
     for (const mapping::Refinement refinement :
-         {mapping::Refinement::kCeres, mapping::Refinement::kNone}) {
+         {mapping::Refinement::kCeres, mapping::Refinement::kNone, mapping::Refinement::kFilter}) {
         Eigen::Matrix3Xd pcd, mapper;
         RunDrive(refinement, pcd, mapper);
         ASSERT_GT(mapper.cols(), 500);

@@ -1,19 +1,36 @@
 #!/usr/bin/env bash
-# The covariance that dorado map writes (covariance.csv) against the simulator's exact trajectory:
-# its fused 1-frame mean NEES (6 dof) must lie in [3, 12], a band that the same covariance scaled by
-# 4 or by 1/4, or set to zero, leaves (checked here too, so the gate is known to bite).
+# The covariance that dorado map writes (covariance.csv) against the simulator's exact trajectory, on
+# two recordings of seq08 (mixed route, fast turns; seeds 8 and 108): the fused pose's 1-frame mean NEES of each
+# 3-dof block (translation, rotation) must lie in [1.5, 6] (the chi-square mean 3 within a factor 2:
+# model error and correlated samples). Mutations, each of which must fail the gate on EACH sequence:
+#   --fused-covariance prior         the mapper reports the prior's covariance for its fused pose (it
+#                                    ignores the registration): fails in rotation, which the map tightens;
+#   --fused-covariance registration  it reports the registration's covariance alone (it ignores the
+#                                    prior): fails in translation, where the registration is far wider;
+#   --scale-covariance 4 / 0.25      over- / under-confident by 4: fails by the band's width (a band
+#                                    narrower than 16:1 cannot hold both x and 4x or x/4), so these two
+#                                    check the gate's width, not the data.
 # Usage: test_map_covariance.sh DORADO NEES_SCRIPT
 set -euo pipefail
 DORADO=$1 NEES=$2
 dir=$(mktemp -d /tmp/dorado_cov_XXXXXX)
 trap 'rm -rf "$dir"' EXIT
-"$DORADO" simulate --sequence seq08 --duration 20 --seed 8 --out "$dir/sim" 2>/dev/null
-"$DORADO" map "$dir/sim/dataset.yaml" --prior doppler --out "$dir/map" 2>/dev/null
-run=(/usr/bin/python3 "$NEES" --truth "$dir/sim/true_trajectory.tum" --run "$dir/map" --name seq08_20s)
-"${run[@]}" --check-fused-nees 3 12
-for scale in 4 0.25 0; do
-  if "${run[@]}" --scale-covariance "$scale" --check-fused-nees 3 12 >/dev/null 2>&1; then
-    echo "FAIL: the covariance scaled by $scale passed the NEES gate"; exit 1
-  fi
-  echo "ok: the covariance scaled by $scale fails the NEES gate"
+# (Only seq08-like drives pass today: on the slow sequences the translation block is over-conservative,
+# NEES 0.4-1.0, the prior's; on the fast car_urban / fast_flat_open over-confident, ~20: docs/covariance.md.)
+for spec in seq08:8 seq08:108; do
+  seq=${spec%%:*} seed=${spec##*:}
+  "$DORADO" simulate --sequence "$seq" --duration 20 --seed "$seed" --out "$dir/sim_$seq$seed" 2>/dev/null
+  "$DORADO" map "$dir/sim_$seq$seed/dataset.yaml" --prior doppler --out "$dir/map_$seq$seed" \
+    2>/dev/null
+  run=(/usr/bin/python3 "$NEES" --truth "$dir/sim_$seq$seed/true_trajectory.tum" --run "$dir/map_$seq$seed"
+       --name "${seq}_s${seed}_20s" --check-block-nees 1.5 6)
+  "${run[@]}"
+  for mutation in "--fused-covariance prior" "--fused-covariance registration" \
+                  "--scale-covariance 4" "--scale-covariance 0.25"; do
+    # shellcheck disable=SC2086
+    if "${run[@]}" $mutation >/dev/null 2>&1; then
+      echo "FAIL: $seq seed $seed: $mutation passed the NEES gate"; exit 1
+    fi
+    echo "ok: $seq seed $seed: $mutation fails the NEES gate"
+  done
 done

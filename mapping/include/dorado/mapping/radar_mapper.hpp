@@ -21,8 +21,12 @@ namespace dorado::mapping {
 
 enum class RegistrationMethod { kPointToPoint, kPointToPlane, kGicp };
 /// kCeres: the new pose alone (registration + Doppler + prior); kWindow: the fixed-lag smoother
-/// over the last window.size scans (window_smoother.hpp).
-enum class Refinement { kNone, kCeres, kWindow };
+/// over the last window.size scans (window_smoother.hpp); kFilter: one chain, an error-state
+/// filter whose state (the pose relative to the map) carries its own covariance P: the prior's
+/// motion propagates it (P^- = Ad P Ad^T + C_prior), the scan-to-map registration (alone, by
+/// registration_covariance, zero information along its weak directions) updates it by
+/// information, the map is built from the filter's pose (docs/covariance.md).
+enum class Refinement { kNone, kCeres, kWindow, kFilter };
 /// How the registration's information about the pose is counted when it is fused with the prior
 /// (configs/mapper.yaml, registration_covariance):
 ///   kIndependent: every point residual an independent measurement of the per-point noise model
@@ -111,9 +115,9 @@ struct MapperConfig {
 /// Why a scan's registration was not trusted and its pose fell back to the prior, in the order
 /// the checks run; the numbers that decided it are in RegistrationResult::fallback_detail.
 enum class FallbackCause {
-    kNone,                   ///< registered
-    kTooFewPoints,           ///< "too few points": the downsampled scan is smaller than min_correspondences
-    kNotConverged,           ///< "registration did not converge"
+    kNone,          ///< registered
+    kTooFewPoints,  ///< "too few points": the downsampled scan is smaller than min_correspondences
+    kNotConverged,  ///< "registration did not converge"
     kTooFewCorrespondences,  ///< "too few correspondences" within the threshold
     kBadFitness,             ///< "bad fitness": their RMS distance above max_rms_m
     kDegenerate,             ///< "degenerate geometry": observability below min_observability
@@ -121,9 +125,10 @@ enum class FallbackCause {
 };
 /// Every cause, in the order above.
 inline constexpr FallbackCause kAllFallbackCauses[] = {
-    FallbackCause::kNone,        FallbackCause::kTooFewPoints, FallbackCause::kNotConverged,
-    FallbackCause::kTooFewCorrespondences, FallbackCause::kBadFitness,
-    FallbackCause::kDegenerate,  FallbackCause::kJump};
+    FallbackCause::kNone,         FallbackCause::kTooFewPoints,
+    FallbackCause::kNotConverged, FallbackCause::kTooFewCorrespondences,
+    FallbackCause::kBadFitness,   FallbackCause::kDegenerate,
+    FallbackCause::kJump};
 
 /// Milliseconds spent in each stage of Register.
 struct StageTimes {
@@ -161,18 +166,23 @@ struct RegistrationResult {
     /// MotionPrior's convention): the fused information of the prior, the registration and the
     /// Doppler residuals. The prior's covariance on a fallback or when the refinement fails; zero
     /// on the first scan (the map's origin). It is the uncertainty of this scan's motion relative
-    /// to the map and the previous pose, not the accumulated drift of the map.
+    /// to the map and the previous pose, not the accumulated drift of the map. With refinement
+    /// filter: the covariance of the motion from the previous output pose (filter_covariance
+    /// below is the pose's own).
     Matrix6d covariance = Matrix6d::Zero();
-    RegisteredPose registered;    ///< the registration's estimate that T_world_base fuses
-    bool first_scan = false;      ///< the map was empty: the pose is the prior and starts the map
+    RegisteredPose registered;  ///< the registration's estimate that T_world_base fuses
+    /// refinement filter: the covariance of T_world_base relative to the map (the filter's state,
+    /// same convention; zero at the first scan); zero with the other refinements.
+    Matrix6d filter_covariance = Matrix6d::Zero();
+    bool first_scan = false;  ///< the map was empty: the pose is the prior and starts the map
     /// Registration not trusted (kNone: registered): the pose is the prior.
     FallbackCause fallback_cause = FallbackCause::kNone;
     std::string fallback_detail;  ///< the numbers behind the cause, e.g. "rms 1.7 m" (for reports)
     [[nodiscard]] bool fallback() const { return fallback_cause != FallbackCause::kNone; }
-    int source_points = 0;        ///< downsampled points registered
-    int correspondences = 0;      ///< within the threshold at the final pose
-    double fitness_rms_m = 0.0;   ///< RMS distance of those correspondences
-    double observability = 0.0;   ///< min eigenvalue ratio of the point-to-plane information
+    int source_points = 0;       ///< downsampled points registered
+    int correspondences = 0;     ///< within the threshold at the final pose
+    double fitness_rms_m = 0.0;  ///< RMS distance of those correspondences
+    double observability = 0.0;  ///< min eigenvalue ratio of the point-to-plane information
     double prior_mahalanobis_squared =
         0.0;                   ///< of the registered pose (prior + registration noise)
     double threshold_m = 0.0;  ///< correspondence threshold used
@@ -229,7 +239,7 @@ class RadarMapper {
 /// "" (kNone), "too few points", "registration did not converge", ... (as in the enum).
 [[nodiscard]] const char *ToString(FallbackCause cause);
 [[nodiscard]] const char *ToString(RobustKernel kernel);
-/// "none" | "ceres" | "window".
+/// "none" | "ceres" | "window" | "filter".
 [[nodiscard]] const char *ToString(Refinement refinement);
 /// The inverse of ToString(Refinement); throws std::invalid_argument listing the choices.
 [[nodiscard]] Refinement ParseRefinement(const std::string &name);
