@@ -44,6 +44,8 @@ class MapOutputs {
     static constexpr double kYoungMapS = 5.0;  ///< fallbacks in the map's first seconds, apart
     std::map<std::string, int> fallback_reasons_, young_map_fallback_reasons_, prior_substitutions_;
     int fallbacks_ = 0, unmasked_ = 0, scans_ = 0;
+    odometry::YawCalibrationStep yaw_calibration_;         ///< the last scan's (online s_x)
+    std::map<std::string, int> yaw_calibration_counts_;  ///< scans by calibration status
     int64_t first_stamp_ns_ = -1;
     std::size_t max_local_map_points_ = 0;
 };

@@ -3,6 +3,8 @@
 # R_gt^T R_align R_est, R_align the best constant rotation, against time) and the ATE rotation [deg] (RMS angle of
 # R_gt_rel^T R_est_rel, first pose aligned), as a
 # markdown table with the ATE [m], then the same pooled (RMS over sequences) per run.
+# --by-sequence: sequences named NAME_sK (one per simulator seed) are grouped by NAME: per group and run the mean
+# over seeds of |drift|, ATE rotation and ATE, with the standard error of the mean (the noise of the comparison).
 import glob, json, os, subprocess, sys
 import numpy as np
 from scipy.spatial.transform import Rotation as R, Slerp
@@ -33,8 +35,10 @@ def metrics(run_dir, seq_dir):
     ate = json.load(open(run_dir + '/attitude_eval.json'))['ate_m']['rmse']
     return dict(roll=slope[2], pitch=slope[1], yaw=slope[0], ate_rot=ate_rot, ate=ate)
 
-out = sys.argv[1]
-want = sys.argv[2] if len(sys.argv) > 2 else ''
+args = [a for a in sys.argv[1:] if a != '--by-sequence']
+by_sequence = '--by-sequence' in sys.argv[1:]
+out = args[0]
+want = args[1] if len(args) > 1 else ''
 rows = {}
 for run_dir in sorted(glob.glob(os.path.join(out, 'runs', '*', '*'))):
     seq, run = run_dir.split(os.sep)[-2:]
@@ -42,6 +46,34 @@ for run_dir in sorted(glob.glob(os.path.join(out, 'runs', '*', '*'))):
         continue
     rows.setdefault(run, {})[seq] = metrics(run_dir, os.path.join(out, 'data', seq))
 seqs = sorted({s for r in rows.values() for s in r})
+if by_sequence:
+    import re
+    group = lambda s: re.sub(r'_s\d+$', '', s)
+    keys = ['roll', 'pitch', 'yaw', 'ate_rot', 'ate']
+    def stat(values):
+        v = np.array(values)
+        se = v.std(ddof=1) / np.sqrt(len(v)) if len(v) > 1 else float('nan')
+        return v.mean(), se
+    print('| sequence | run | seeds | abs roll deg/min | abs pitch deg/min | abs yaw deg/min | ATE rot deg | ATE m |')
+    print('|---|---|---|---|---|---|---|---|')
+    pooled = {}
+    for g in sorted({group(s) for s in seqs}):
+        for run in sorted(rows):
+            xs = [x for s, x in rows[run].items() if group(s) == g]
+            if not xs:
+                continue
+            cells = []
+            for k in keys:
+                m, se = stat([abs(x[k]) for x in xs])
+                cells.append(f'{m:.3f} +- {se:.3f}' if k == 'ate' else f'{m:.2f} +- {se:.2f}')
+                pooled.setdefault(run, {}).setdefault(k, []).append(m)
+            print(f"| {g} | {run} | {len(xs)} | " + ' | '.join(cells) + ' |')
+    print()
+    print('| run | roll | pitch | yaw | ATE rot | ATE m |  (RMS over sequences of the seed means)')
+    print('|---|---|---|---|---|---|')
+    for run in sorted(pooled):
+        print(f'| {run} | ' + ' | '.join(f'{np.sqrt(np.mean(np.square(pooled[run][k]))):.3f}' for k in keys) + ' |')
+    sys.exit(0)
 print('| sequence | run | roll deg/min | pitch deg/min | yaw deg/min | ATE rot deg | ATE m |')
 print('|---|---|---|---|---|---|---|')
 for s in seqs:

@@ -88,6 +88,21 @@ void ReadGround(io::YamlSection m, odometry::GroundAttitudeConfig &c) {
     m.RejectUnknownKeys();
 }
 
+void ReadOnlineCalibration(io::YamlSection m, odometry::YawCalibrationConfig &c) {
+    m.Read("enabled", c.enabled);
+    m.Read("window_s", c.window_s);
+    m.Read("max_window_s", c.max_window_s);
+    m.Read("min_turn_rad", c.min_turn_rad);
+    m.Read("min_speed_mps", c.min_speed_mps);
+    m.Read("measurement_sigma_rad", c.measurement_sigma_rad);
+    m.Read("relative_sigma", c.relative_sigma);
+    m.Read("initial_relative_sigma", c.initial_relative_sigma);
+    m.Read("relative_random_walk_per_sqrt_s", c.relative_random_walk_per_sqrt_s);
+    m.Read("max_innovation_chi2", c.max_innovation_chi2);
+    m.Read("max_ratio", c.max_ratio);
+    m.RejectUnknownKeys();
+}
+
 }  // namespace
 
 odometry::OdometryMethod ParseOdometryMethodKey(const std::string &text, const std::string &what) {
@@ -118,6 +133,7 @@ odometry::DopplerOdometryConfig LoadOdometryConfig(const std::string &yaml_path)
     odo.Read("angular_rate_prior", config.angular_rate_prior);
     odo.RejectUnknownKeys();
     ReadGround(top.Child("ground"), config.ground);
+    ReadOnlineCalibration(top.Child("online_calibration"), config.online_calibration);
     top.RejectUnknownKeys();
     try {
         config.Validate();  // messages name the field as "section.key: ..."
