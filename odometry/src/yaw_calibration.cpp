@@ -14,6 +14,7 @@ void YawCalibrationConfig::Validate() const {
         if (!ok)
             throw std::invalid_argument(std::string("online_calibration.") + key + ": " + what);
     };
+    require(warmup_s >= 0.0, "warmup_s", "must be >= 0");
     require(window_s > 0.0, "window_s", "must be > 0");
     require(max_window_s >= window_s, "max_window_s", "must be >= window_s");
     require(min_turn_rad > 0.0, "min_turn_rad", "must be > 0 (straight driving is unobservable)");
@@ -31,6 +32,8 @@ const char *ToString(YawCalibrationStatus status) {
     switch (status) {
         case YawCalibrationStatus::kDisabled:
             return "disabled";
+        case YawCalibrationStatus::kWarmup:
+            return "warmup";
         case YawCalibrationStatus::kAccumulating:
             return "accumulating";
         case YawCalibrationStatus::kNotRegistered:
@@ -114,6 +117,11 @@ YawCalibrationStep YawRateCalibrator::AddScan(double dt_s, double v_sy_base_mps,
     if (!config_.enabled) return Report(YawCalibrationStatus::kDisabled);
     const double dt = std::isfinite(dt_s) && dt_s > 0.0 ? dt_s : 0.0;
     since_update_s_ += dt;
+    age_s_ += dt;
+    if (age_s_ < config_.warmup_s) {
+        RestartWindow(false, R_world_base);
+        return Report(YawCalibrationStatus::kWarmup);
+    }
     if (!registered || !R_world_base.allFinite()) {
         RestartWindow(false, R_world_base);
         return Report(YawCalibrationStatus::kNotRegistered);

@@ -30,7 +30,7 @@ TEST(OdometryConfig, TheShippedFileReadsEveryGroundKey) {
     EXPECT_FALSE(config.ground.enabled);
     EXPECT_DOUBLE_EQ(config.ground.road_slope_sigma_deg, 4.0);
     EXPECT_DOUBLE_EQ(config.ground.plane.max_distance_m, 15.0);
-    EXPECT_FALSE(config.ego_velocity.compensate_direction_noise);  // opt-in: docs/attitude.md
+    EXPECT_TRUE(config.ego_velocity.compensate_direction_noise);  // docs/attitude.md, section 6
 }
 
 TEST(OdometryConfig, GroundErrorsNameTheFileAndTheKey) {
@@ -52,6 +52,7 @@ TEST(OdometryConfig, OnlineCalibrationKeysAreReadAndShippedAtTheirDefaults) {
     const auto shipped =
         LoadOdometryConfig(DORADO_SOURCE_DIR "/configs/odometry.yaml").online_calibration;
     EXPECT_EQ(shipped.enabled, defaults.enabled);
+    EXPECT_DOUBLE_EQ(shipped.warmup_s, defaults.warmup_s);
     EXPECT_DOUBLE_EQ(shipped.window_s, defaults.window_s);
     EXPECT_DOUBLE_EQ(shipped.max_window_s, defaults.max_window_s);
     EXPECT_DOUBLE_EQ(shipped.min_turn_rad, defaults.min_turn_rad);

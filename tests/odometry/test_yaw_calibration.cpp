@@ -29,7 +29,7 @@ YawCalibrationConfig Enabled() {
 struct DriveOutcome {
     double s_x_m = 0.0, sigma_m = 0.0;
     int updates = 0;
-    int by_status[7] = {};
+    int by_status[8] = {};
 };
 
 // A weaving drive at `speed` with yaw rate omega(t); the radar's lateral velocity is
@@ -95,7 +95,9 @@ TEST(YawRateCalibrator, NoUpdateWithoutRegisteredPoses) {
     const DriveOutcome out = Drive(1.3 * kTrueSx, 60.0, 1.5, Weave, 0.5, /*registered=*/false);
     EXPECT_EQ(out.updates, 0);
     EXPECT_DOUBLE_EQ(out.s_x_m, 1.3 * kTrueSx);
-    EXPECT_EQ(out.by_status[static_cast<int>(YawCalibrationStatus::kNotRegistered)], 600);
+    const int warmup = out.by_status[static_cast<int>(YawCalibrationStatus::kWarmup)];
+    EXPECT_NEAR(warmup, 51, 1);  // the first 5 s (the first scan has no interval)
+    EXPECT_EQ(out.by_status[static_cast<int>(YawCalibrationStatus::kNotRegistered)] + warmup, 600);
 }
 
 TEST(YawRateCalibrator, DisabledDoesNothing) {
@@ -106,10 +108,10 @@ TEST(YawRateCalibrator, DisabledDoesNothing) {
 }
 
 TEST(YawRateCalibrator, UpdateIsTheScalarKalmanUpdate) {
-    // Closed form with g0 = 1 / 0.5 = 2, P0 = (0.3 * 2)^2, no random walk (elapsed 0):
+    // Closed form with g0 = 1 / 0.5 = 2, P0 = (0.2 * 2)^2, no random walk (elapsed 0):
     // h = 0.1 m, predicted 0.2 rad, measured 0.25; R = 0.01^2 + (0.05 * 0.2)^2.
     YawRateCalibrator calibrator(Enabled(), 0.5);
-    const double P0 = 0.36, h = 0.1, R = 1e-4 + 1e-4;
+    const double P0 = 0.16, h = 0.1, R = 1e-4 + 1e-4;
     const double S = h * h * P0 + R, K = P0 * h / S;
     const double g = 2.0 + K * (0.25 - 0.2), P = (1.0 - K * h) * P0;
     const YawCalibrationStep step = calibrator.Update(0.25, h, 1.0, 0.0);

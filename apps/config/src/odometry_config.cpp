@@ -90,6 +90,7 @@ void ReadGround(io::YamlSection m, odometry::GroundAttitudeConfig &c) {
 
 void ReadOnlineCalibration(io::YamlSection m, odometry::YawCalibrationConfig &c) {
     m.Read("enabled", c.enabled);
+    m.Read("warmup_s", c.warmup_s);
     m.Read("window_s", c.window_s);
     m.Read("max_window_s", c.max_window_s);
     m.Read("min_turn_rad", c.min_turn_rad);

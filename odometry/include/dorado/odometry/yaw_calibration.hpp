@@ -22,6 +22,9 @@ struct YawCalibrationConfig {
     /// Estimate s_x online and feed it back to the kinematic model (the odometry and the next
     /// priors). false: the configured s_x throughout (the paper).
     bool enabled = false;
+    /// No measurement in the map's first seconds (a young map registers worse; on hills_slopes its
+    /// first windows pushed s_x to the clamp) [s].
+    double warmup_s = 5.0;
     /// Shortest window between the two registered poses that make one measurement [s].
     double window_s = 1.0;
     /// Longest window: a window still not turning enough by then restarts [s].
@@ -37,7 +40,7 @@ struct YawCalibrationConfig {
     /// to turn) [-].
     double relative_sigma = 0.05;
     /// 1-sigma of the starting g = 1 / s_x, relative to the configured value [-].
-    double initial_relative_sigma = 0.3;
+    double initial_relative_sigma = 0.2;
     /// Random walk of g, relative to the configured value, per sqrt(second) [1/sqrt(s)].
     double relative_random_walk_per_sqrt_s = 0.002;
     /// A window whose innovation is farther than this squared Mahalanobis distance is refused
@@ -53,6 +56,7 @@ struct YawCalibrationConfig {
 /// What the calibrator did with one scan.
 enum class YawCalibrationStatus {
     kDisabled,       ///< calibration off
+    kWarmup,         ///< within warmup_s of the map's start: no window yet
     kAccumulating,   ///< inside a window
     kNotRegistered,  ///< this scan's pose is not registered (fallback, degenerate): window restarts
     kStanding,       ///< the window's mean speed below min_speed_mps: no update
@@ -61,7 +65,7 @@ enum class YawCalibrationStatus {
     kUpdated,        ///< a measurement was used
 };
 
-/// "disabled" | "accumulating" | "not_registered" | "standing" | "straight" | "outlier" | "updated".
+/// "disabled" | "warmup" | "accumulating" | "not_registered" | "standing" | "straight" | "outlier" | "updated".
 [[nodiscard]] const char *ToString(YawCalibrationStatus status);
 
 /// One scan's outcome, with the estimate after it.
@@ -92,8 +96,11 @@ class YawRateCalibrator {
     YawCalibrationStep Update(double dpsi_rad, double h_m, double mean_speed_mps, double elapsed_s);
 
     /// Ends the open window without a measurement (a new map frame): the next registered scan
-    /// starts one. The estimate is kept.
-    void BreakWindow() { window_open_ = false; }
+    /// after warmup_s starts one. The estimate is kept.
+    void BreakWindow() {
+        window_open_ = false;
+        age_s_ = 0.0;
+    }
 
     [[nodiscard]] double s_x_m() const { return 1.0 / g_; }
     [[nodiscard]] double sigma_s_x_m() const;
@@ -115,6 +122,7 @@ class YawRateCalibrator {
     Eigen::Matrix3d R_start_ = Eigen::Matrix3d::Identity();
     double h_m_ = 0.0, elapsed_s_ = 0.0, distance_m_ = 0.0;
     double since_update_s_ = 0.0;
+    double age_s_ = 0.0;  ///< time since the map started (construction or BreakWindow)
 };
 
 }  // namespace dorado::odometry
