@@ -166,6 +166,7 @@ TEST(OnlineCalibration, KeepsACorrectSxWithinTwoPercent) {
 
 TEST(OnlineCalibration, OffReportsDisabled) {
     FrontEndConfig config;
+    config.odometry.online_calibration.enabled = false;
     RadarFrontEnd front_end(config, Mount(0.7 * kTrueSx), Geometry());
     for (int k = 0; k < 30; ++k) {
         const FrontEndResult r = front_end.Process(WeaveScans()[static_cast<std::size_t>(k)]);

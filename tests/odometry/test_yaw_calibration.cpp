@@ -101,7 +101,8 @@ TEST(YawRateCalibrator, NoUpdateWithoutRegisteredPoses) {
 }
 
 TEST(YawRateCalibrator, DisabledDoesNothing) {
-    YawCalibrationConfig config;  // enabled = false
+    YawCalibrationConfig config;
+    config.enabled = false;
     const DriveOutcome out = Drive(1.3 * kTrueSx, 30.0, 1.5, Weave, 0.003, true, config);
     EXPECT_EQ(out.updates, 0);
     EXPECT_EQ(out.by_status[static_cast<int>(YawCalibrationStatus::kDisabled)], 300);
