@@ -15,7 +15,7 @@ namespace {
 constexpr const char *kCsvHeader =
     "t,time_doppler_ms,time_prior_ms,time_preprocess_ms,time_registration_ms,time_refinement_ms,"
     "time_map_update_ms,time_total_ms,correspondences,fitness,fallback,fallback_reason,prior,"
-    "prior_substitution,local_map_points\n";
+    "prior_substitution,local_map_points,s_x_online_m,sigma_s_x_online_m,yaw_calibration\n";
 
 std::string Quoted(const std::string &text) {
     std::string out = "\"";
@@ -89,7 +89,18 @@ void MapOutputs::Add(const frontend::FrontEndResult &result) {
                   t.total_ms, r.correspondences, r.fitness_rms_m, r.fallback() ? 1 : 0);
     csv_ += row + Quoted(Reason(r)) + ',' +
             (result.prior_first_scan ? "first scan" : mapping::ToString(result.prior_used)) + ',' +
-            Quoted(result.prior_substitution) + ',' + std::to_string(r.local_map_points) + '\n';
+            Quoted(result.prior_substitution) + ',' + std::to_string(r.local_map_points) + ',';
+    // The online yaw lever after this scan (empty when the calibration is off).
+    const odometry::YawCalibrationStep &yaw = result.yaw_calibration;
+    if (yaw.status != odometry::YawCalibrationStatus::kDisabled) {
+        std::snprintf(row, sizeof(row), "%.5f,%.5f,", yaw.s_x_m, yaw.sigma_s_x_m);
+        csv_ += row;
+        yaw_calibration_ = yaw;
+        yaw_calibration_counts_[odometry::ToString(yaw.status)]++;
+    } else {
+        csv_ += ",,";
+    }
+    csv_ += std::string(odometry::ToString(yaw.status)) + '\n';
     max_local_map_points_ = std::max(max_local_map_points_, r.local_map_points);
 }
 
@@ -120,6 +131,12 @@ nlohmann::json MapOutputs::Summary() const {
             {"time_per_scan_ms",
              TimeStatistics(total == stage_ms_.end() ? std::vector<double>{} : total->second)},
             {"time_per_stage_ms", stages},
+            {"online_calibration",
+             yaw_calibration_counts_.empty()
+                 ? nlohmann::json()
+                 : nlohmann::json{{"s_x_m", yaw_calibration_.s_x_m},
+                                  {"sigma_s_x_m", yaw_calibration_.sigma_s_x_m},
+                                  {"scans_by_status", yaw_calibration_counts_}}},
             {"map_points", map_points_world_.size()},
             {"local_map_points_max", max_local_map_points_}};
 }

@@ -14,6 +14,11 @@ endforeach()
 # dorado_warnings is linked privately (static libraries list it as $<LINK_ONLY:...>): export it
 # too, as an empty interface for the consumer.
 set_target_properties(dorado_warnings PROPERTIES EXPORT_NAME warnings)
+# A sanitized build's static libraries call the sanitizers' runtime: whoever links them needs it,
+# so the exported target says so (tests/consumer links an installed sanitized build).
+if(DORADO_SANITIZE)
+  target_link_options(dorado_warnings INTERFACE -fsanitize=address,undefined)
+endif()
 install(TARGETS dorado_core dorado_odometry dorado_warnings EXPORT doradoTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}

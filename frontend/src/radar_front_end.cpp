@@ -76,6 +76,10 @@ struct RadarFrontEnd::State {
           odometry(OdometryConfigFor(config, g), e, g),
           prior_ground(odometry.ground_config()) {
         if (config.run_mapper) mapper.emplace(MapperConfigFor(config.mapper, g), e, g);
+        if (config.run_mapper && config.odometry.online_calibration.enabled &&
+            g.model != VehicleModel::kUnconstrained)
+            yaw_calibrator.emplace(config.odometry.online_calibration,
+                                   e.T_base_radar.translation().x());
     }
 
     FrontEndConfig config;
@@ -88,6 +92,8 @@ struct RadarFrontEnd::State {
     // The ground-plane attitude on the mapper's chain: the doppler prior's roll and pitch
     // corrected by the scan's ground plane, as the odometry corrects its own (ground.enabled).
     odometry::GroundAttitudeFilter prior_ground;
+    // eq. (5)'s yaw lever from the map's registered yaw (odometry.online_calibration).
+    std::optional<odometry::YawRateCalibrator> yaw_calibrator;
     Trajectory trajectory;
     Eigen::Isometry3d T_world_base_initial = Eigen::Isometry3d::Identity();
     // The last two accepted poses since the last reset (constvel, imu priors).
@@ -97,6 +103,9 @@ struct RadarFrontEnd::State {
     double last_dt_s = 0.0;
     bool has_last = false;
     int64_t last_stamp_ns = 0;
+
+    // Hands the registered pose's yaw to the calibrator; its new estimate drives the next scans.
+    void CalibrateYawLever(FrontEndResult &result);
 
     mapping::MotionPrior BuildPrior(const odometry::OdometryStep &step, int64_t stamp_ns,
                                     double dt_s, FrontEndResult &result) const;
@@ -171,6 +180,24 @@ mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometrySt
     return *built;
 }
 
+void RadarFrontEnd::State::CalibrateYawLever(FrontEndResult &result) {
+    const odometry::OdometryStep &step = result.odometry;
+    const mapping::RegistrationResult &reg = result.registration;
+    // A window needs every scan's own Doppler yaw (eq. 5 on this scan's velocity, no fallback)
+    // and every pose registered, with the yaw among the directions the map observes.
+    const bool own_twist = step.ego.valid && !step.used_fallback && !step.planar;
+    const bool yaw_observed = reg.first_scan || (reg.registered.valid && !reg.fallback() &&
+                                                 reg.registered.strong_projector(5, 5) > 0.5);
+    const Eigen::Matrix3d R_world_base =
+        reg.registered.valid ? reg.registered.T_world_base.linear() : reg.T_world_base.linear();
+    const double v_sy =
+        own_twist ? odometry.model().SensorVelocityInBase(step.ego.v_radar_mps).y() : 0.0;
+    result.yaw_calibration = yaw_calibrator->AddScan(step.dt_s, v_sy, step.v_base_used_mps.norm(),
+                                                     own_twist && yaw_observed, R_world_base);
+    if (result.yaw_calibration.status == odometry::YawCalibrationStatus::kUpdated)
+        odometry.SetYawLever(result.yaw_calibration.s_x_m);
+}
+
 RadarFrontEnd::RadarFrontEnd(FrontEndConfig config, const Extrinsics &extrinsics,
                              const VehicleGeometry &geometry)
     : state_(std::make_unique<State>(std::move(config), extrinsics, geometry)) {}
@@ -238,6 +265,7 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
             s.mapper->Register(scan_radar, result.prior, dt_s, mask, gyro ? &gyro_base : nullptr);
         result.times.mapper = result.registration.times;
         result.T_world_base = result.registration.T_world_base;
+        if (s.yaw_calibrator) s.CalibrateYawLever(result);
     } else {
         result.T_world_base = step.T_world_base;
     }
@@ -259,6 +287,7 @@ void RadarFrontEnd::Reset(const Eigen::Isometry3d &T_world_base) {
     State &s = *state_;
     s.odometry.Restart(T_world_base);
     s.prior_ground.Reset();
+    if (s.yaw_calibrator) s.yaw_calibrator->BreakWindow();
     if (s.mapper)
         s.mapper.emplace(MapperConfigFor(s.config.mapper, s.geometry), s.extrinsics, s.geometry);
     s.T_world_base_initial = T_world_base;

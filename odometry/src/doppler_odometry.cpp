@@ -50,6 +50,7 @@ OdometryMethod ParseOdometryMethod(const std::string &name) {
 void DopplerOdometryConfig::Validate() const {
     ego_velocity.Validate();
     ground.Validate();
+    online_calibration.Validate();
     if (!(max_angular_rate_radps > 0.0))
         throw std::invalid_argument("odometry.max_angular_rate_radps: must be > 0");
 }

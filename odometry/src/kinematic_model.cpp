@@ -29,13 +29,29 @@ KinematicModel::KinematicModel(const Extrinsics &extrinsics, const VehicleGeomet
         throw std::invalid_argument(
             "vehicle.half_wheelbase_m: the radar is on the Y-ICR axis (m - s_x = " +
             std::to_string(m - s_x) + " m): the pitch rate is unobservable (eq. 5)");
-    // eq. (5) as a matrix on v_s (base frame): omega_y = v_sz / (m - s_x), omega_z = v_sy / s_x.
+    yaw_lever_m_ = s_x;
+    BuildJacobians();
+}
+
+void KinematicModel::BuildJacobians() {
+    const double s_x = p_base_radar_.x(), m = half_wheelbase_m_;
+    // eq. (5) as a matrix on v_s (base frame): omega_y = v_sz / (m - s_x), omega_z = v_sy / s_x
+    // (s_x the yaw lever: the radar's X position unless calibrated online, SetYawLever).
     Eigen::Matrix3d J_omega_vs = Eigen::Matrix3d::Zero();
     J_omega_vs(1, 2) = 1.0 / (m - s_x);
-    J_omega_vs(2, 1) = 1.0 / s_x;
+    J_omega_vs(2, 1) = 1.0 / yaw_lever_m_;
     J_omega_ = J_omega_vs * R_base_radar_;
     // v_base = v_s - omega x s = v_s + s x omega = (I + Hat(s) J_omega_vs) v_s.
     J_v_base_ = (Eigen::Matrix3d::Identity() + Hat(p_base_radar_) * J_omega_vs) * R_base_radar_;
+}
+
+void KinematicModel::SetYawLever(double s_x_m) {
+    if (!constrained_) return;
+    if (!std::isfinite(s_x_m) || std::abs(s_x_m) < 1e-3)
+        throw std::invalid_argument("KinematicModel::SetYawLever: s_x = " + std::to_string(s_x_m) +
+                                    " m leaves the yaw rate unobservable");
+    yaw_lever_m_ = s_x_m;
+    BuildJacobians();
 }
 
 VehicleMotion KinematicModel::Motion(const Eigen::Vector3d &v_radar,
@@ -65,7 +81,7 @@ Eigen::Matrix<double, 6, 3> KinematicModel::ViolationJacobian() const {
     Eigen::Matrix3d G_omega;
     G_omega << 0.0, 0.0, -1.0,                        //
         0.0, 1.0 / (m - s.x()), s.y() / (m - s.x()),  //
-        1.0 / s.x(), 0.0, -s.z() / s.x();
+        1.0 / yaw_lever_m_, 0.0, -s.z() / yaw_lever_m_;
     Eigen::Matrix<double, 6, 3> G;
     G << Hat(s) * G_omega, G_omega;
     return G;

@@ -88,6 +88,10 @@ struct FrontEndResult {
     /// The mapper's result (when run_mapper): fallback, correspondences, fitness, the points it
     /// added to its map (map_points_added_world: for an output map or a live display), ...
     mapping::RegistrationResult registration;
+    /// The online calibration of eq. (5)'s yaw lever (odometry.online_calibration, with the
+    /// mapper): what this scan did and the estimate after it, which the next scan's odometry and
+    /// prior use. Status kDisabled when off.
+    odometry::YawCalibrationStep yaw_calibration;
 
     FrontEndTimes times;
 };

@@ -16,6 +16,7 @@
 #include "dorado/odometry/kinematic_model.hpp"
 #include "dorado/odometry/planar_ego_velocity.hpp"
 #include "dorado/odometry/planar_kinematic_model.hpp"
+#include "dorado/odometry/yaw_calibration.hpp"
 
 namespace dorado::odometry {
 
@@ -63,6 +64,9 @@ struct DopplerOdometryConfig {
     /// fit's elevation noise comes from ego_velocity.sensor when it has one, the road's height
     /// from VehicleGeometry::base_height_m (unknown: no observation, kNoBaseHeight).
     GroundAttitudeConfig ground;
+    /// Online calibration of eq. (5)'s yaw lever s_x from the map's registered yaw (the front end
+    /// runs it when the mapper runs; DopplerOdometry itself only takes the result, SetYawLever).
+    YawCalibrationConfig online_calibration;
 
     /// Throws std::invalid_argument naming the first bad field.
     void Validate() const;
@@ -123,6 +127,9 @@ class DopplerOdometry {
         return ground_filter_.config();
     }
     void SetInitialPose(const Eigen::Isometry3d &T_world_base) { T_world_base_ = T_world_base; }
+    /// eq. (5)'s yaw lever from the next scan on (KinematicModel::SetYawLever; the online
+    /// calibration's estimate). The 3-D chain only.
+    void SetYawLever(double s_x_m) { model_.SetYawLever(s_x_m); }
     /// Starts over at T_world_base: the next scan integrates nothing (as a first scan) and no
     /// earlier twist is reused, but stamps must still come after the last scan's.
     void Restart(const Eigen::Isometry3d &T_world_base);

@@ -86,18 +86,28 @@ class KinematicModel {
 
     [[nodiscard]] const Eigen::Vector3d &p_base_radar() const { return p_base_radar_; }
 
+    /// The lever of eq. (5)'s yaw rate, omega_z = v_sy / s_x: the radar's X position unless set.
+    [[nodiscard]] double yaw_lever_m() const { return yaw_lever_m_; }
+    /// Replaces the yaw lever (an online calibration of the Z-ICR offset, yaw_calibration.hpp):
+    /// omega_z = v_sy / s_x_m from now on, and the base velocity through the physical lever arm
+    /// p_base_radar (so the rear axle gets the lateral velocity of an ICR ahead of it). Throws
+    /// std::invalid_argument for |s_x_m| < 1 mm; no effect on an unconstrained model.
+    void SetYawLever(double s_x_m);
+
     /// How the estimate errs when the constraints are broken: d [v_base; omega_base] (estimate
     /// minus truth) / d [lateral velocity at the rear axle; vertical velocity at the Y-ICR point;
     /// roll rate]. From eq. (3) and (4) with the violations kept (derivation in the .cpp).
     [[nodiscard]] Eigen::Matrix<double, 6, 3> ViolationJacobian() const;
 
   private:
+    void BuildJacobians();
     [[nodiscard]] Eigen::Matrix<double, 6, 6> ModelCovariance(
         const Eigen::Vector3d &v_base, const Eigen::Vector3d &omega_base) const;
 
     Eigen::Matrix3d R_base_radar_;
     Eigen::Vector3d p_base_radar_;  ///< s, the radar position in the base frame
     double half_wheelbase_m_;
+    double yaw_lever_m_ = 0.0;  ///< eq. (5)'s s_x for the yaw rate (SetYawLever)
     KinematicModelNoise model_noise_;
     bool constrained_ = true;
     Eigen::Matrix3d J_omega_;   ///< omega_base = J_omega_ v_radar

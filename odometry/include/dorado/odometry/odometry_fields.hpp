@@ -1,7 +1,8 @@
 #pragma once
 /// @file odometry_fields.hpp
 /// The odometry's configurable fields, listed once (core/config_fields.hpp): keys as in
-/// configs/odometry.yaml (sections ego_velocity, odometry, ground). The defaults are the structs'.
+/// configs/odometry.yaml (sections ego_velocity, odometry, ground,
+/// online_calibration). The defaults are the structs'.
 
 #include "dorado/core/config_fields.hpp"
 #include "dorado/odometry/doppler_odometry.hpp"
@@ -110,7 +111,28 @@ void VisitFields(GroundAttitudeConfig &c, Visitor &&v) {
     v("seed", p.seed, "RANSAC's seed, reset at every fit");
 }
 
-/// configs/odometry.yaml: ego_velocity.*, odometry.*, ground.*.
+/// The online calibration of eq. 5's yaw lever s_x from the map (yaw_calibration.hpp).
+template <typename Visitor>
+void VisitFields(YawCalibrationConfig &c, Visitor &&v) {
+    v("enabled", c.enabled, "estimate s_x online from the map; false: the configured s_x");
+    v("warmup_s", c.warmup_s, "no measurement in the map's first seconds [s]");
+    v("window_s", c.window_s, "shortest window between a measurement's two registered poses [s]");
+    v("max_window_s", c.max_window_s, "a window not turning min_turn_rad by then restarts [s]");
+    v("min_turn_rad", c.min_turn_rad, "smaller yaw changes are straight driving: no update [rad]");
+    v("min_speed_mps", c.min_speed_mps, "mean speed of a window below this: no update [m/s]");
+    v("measurement_sigma_rad", c.measurement_sigma_rad,
+      "yaw error of one window's two registered poses together [rad]");
+    v("relative_sigma", c.relative_sigma, "model noise relative to the yaw change");
+    v("initial_relative_sigma", c.initial_relative_sigma,
+      "1-sigma of the start, relative to the configured 1/s_x");
+    v("relative_random_walk_per_sqrt_s", c.relative_random_walk_per_sqrt_s,
+      "drift of 1/s_x, relative, per sqrt(s)");
+    v("max_innovation_chi2", c.max_innovation_chi2,
+      "refuse a window farther than this (chi^2, 1 dof); 0: no gate");
+    v("max_ratio", c.max_ratio, "the estimate stays within [1/r, r] x the configured s_x");
+}
+
+/// configs/odometry.yaml: ego_velocity.*, odometry.*, ground.*, online_calibration.*.
 template <typename Visitor>
 void VisitFields(DopplerOdometryConfig &c, Visitor &&v) {
     VisitFields(c.ego_velocity, Prefixed{"ego_velocity.", v});
@@ -123,6 +145,7 @@ void VisitFields(DopplerOdometryConfig &c, Visitor &&v) {
     v("odometry.angular_rate_prior", c.angular_rate_prior,
       "integrate eq. 5's twist combined with the vehicle's angular-rate prior");
     VisitFields(c.ground, Prefixed{"ground.", v});
+    VisitFields(c.online_calibration, Prefixed{"online_calibration.", v});
 }
 
 }  // namespace dorado::odometry
