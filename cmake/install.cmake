@@ -17,7 +17,7 @@ set_target_properties(dorado_warnings PROPERTIES EXPORT_NAME warnings)
 # A sanitized build's static libraries call the sanitizers' runtime: whoever links them needs it,
 # so the exported target says so (tests/consumer links an installed sanitized build).
 if(DORADO_SANITIZE)
-  target_link_options(dorado_warnings INTERFACE -fsanitize=address,undefined)
+  target_link_options(dorado_core INTERFACE -fsanitize=address,undefined)
 endif()
 install(TARGETS dorado_core dorado_odometry dorado_warnings EXPORT doradoTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}

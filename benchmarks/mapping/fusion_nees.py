@@ -6,7 +6,9 @@ consistency of their covariances by NEES.
     fusion_nees.py --truth DATA/true_trajectory.tum --run MAPDIR [--name NAME] ...   (pairs repeat)
     fusion_nees.py ... --check-fused-nees LO HI    exit 1 unless every run's fused 1-frame mean NEES
                                                     lies in [LO, HI] (a test's gate)
-    fusion_nees.py ... --check-block-nees LO HI    the same per 3-dof block (translation, rotation)
+    fusion_nees.py ... --check-block-nees LO HI [LO_ROT HI_ROT]
+                                                    the same per 3-dof block (translation, rotation;
+                                                    a second pair is the rotation's own band)
     fusion_nees.py ... --fused-covariance prior    score the fused pose with the prior's (or the
                                                     registration's) covariance: what a mapper that
                                                     reported that one would be scored (a test's mutation)
@@ -218,13 +220,20 @@ def main():
     ap.add_argument("--scan-rate-hz", type=float, default=None,
                     help="frames per second for the 1 s NEES (default: each run's median scan interval)")
     ap.add_argument("--check-fused-nees", nargs=2, type=float, metavar=("LO", "HI"))
-    ap.add_argument("--check-block-nees", nargs=2, type=float, metavar=("LO", "HI"),
-                    help="the fused 1-frame mean NEES of each 3-dof block (translation, rotation)")
+    ap.add_argument("--check-block-nees", nargs="+", type=float, metavar="LO HI [LO_ROT HI_ROT]",
+                    help="the fused 1-frame mean NEES of each 3-dof block (translation, rotation); "
+                         "a second pair is the rotation's band")
     ap.add_argument("--fused-covariance", choices=("fused", "prior", "registration"), default="fused",
                     help="the covariance the fused pose is scored with (a test's mutation)")
     ap.add_argument("--scale-covariance", type=float, default=1.0,
                     help="multiply every covariance read (a test shows that a wrong scale fails the gate)")
     args = ap.parse_args()
+    block_bands = []
+    if args.check_block_nees:
+        if len(args.check_block_nees) not in (2, 4):
+            sys.exit("fusion_nees.py: --check-block-nees takes LO HI or LO HI LO_ROT HI_ROT")
+        b = args.check_block_nees
+        block_bands = [(b[0], b[1]), (b[-2], b[-1])]
     if len(args.truth) != len(args.run):
         sys.exit("fusion_nees.py: give one --truth per --run")
     names = args.name or [r.rstrip("/").split("/")[-1] for r in args.run]
@@ -259,8 +268,7 @@ def main():
                 print(f"fusion_nees.py: {name}: fused mean NEES {mean:.2f} outside [{lo}, {hi}]", file=sys.stderr)
                 ok = False
         if args.check_block_nees:
-            lo, hi = args.check_block_nees
-            for block in ("trans", "rot"):
+            for block, (lo, hi) in zip(("trans", "rot"), block_bands):
                 mean = float(np.mean(ne_block[block]))
                 if not (lo <= mean <= hi):
                     print(f"fusion_nees.py: {name}: fused {block} mean NEES {mean:.2f} outside [{lo}, {hi}]",

@@ -191,7 +191,7 @@ void RadarFrontEnd::State::CalibrateYawLever(FrontEndResult &result) {
     const Eigen::Matrix3d R_world_base =
         reg.registered.valid ? reg.registered.T_world_base.linear() : reg.T_world_base.linear();
     const double v_sy =
-        own_twist ? odometry.model().SensorVelocityInBase(step.ego.v_radar_mps).y() : 0.0;
+        own_twist ? (odometry.model().SensorVelocityJacobian() * step.ego.v_radar_mps).y() : 0.0;
     result.yaw_calibration = yaw_calibrator->AddScan(step.dt_s, v_sy, step.v_base_used_mps.norm(),
                                                      own_twist && yaw_observed, R_world_base);
     if (result.yaw_calibration.status == odometry::YawCalibrationStatus::kUpdated)

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "dorado/core/require.hpp"
+#include "dorado/mapping/mapper_fields.hpp"
 #include "dorado/mapping/radar_mapper.hpp"
 
 namespace dorado::mapping {
@@ -93,9 +94,12 @@ const char *ToString(Refinement refinement) {
 }
 
 Refinement ParseRefinement(const std::string &name) {
-    for (auto r : {Refinement::kNone, Refinement::kCeres, Refinement::kWindow, Refinement::kFilter})
-        if (name == ToString(r)) return r;
-    throw std::invalid_argument("unknown refinement '" + name + "' (none, ceres, window, filter)");
+    std::string names;
+    for (const auto &[text, r] : RefinementChoices()) {
+        if (name == text) return r;
+        names += (names.empty() ? "" : ", ") + std::string(text);
+    }
+    throw std::invalid_argument("unknown refinement '" + name + "' (" + names + ")");
 }
 
 RegistrationMethod ParseRegistrationMethod(const std::string &name) {

@@ -17,6 +17,7 @@ inline Choices<RegistrationMethod> RegistrationMethodChoices() {
 inline Choices<Refinement> RefinementChoices() {
     return {{ToString(Refinement::kCeres), Refinement::kCeres},
             {ToString(Refinement::kWindow), Refinement::kWindow},
+            {ToString(Refinement::kFilter), Refinement::kFilter},
             {ToString(Refinement::kNone), Refinement::kNone}};
 }
 inline Choices<RobustKernel> RobustKernelChoices() {
