@@ -3,17 +3,27 @@
 # (issue 34: "odometry time per scan <= 0.5x today's median"). Runs A and B alternately `reps`
 # times per sequence (so that machine load hits both alike) and prints, per sequence, the median
 # over runs of summary.json's time_per_scan_ms median and p95, and the ratio B/A.
+# The sequences are simulated by A (the baseline, usually the older binary: a newer dorado reads an
+# older dataset description, not always the reverse).
 # Usage: benchmarks/odometry/compare_odometry_time.sh DORADO_A DORADO_B OUT [reps=3] [duration_s=30]
+# B_ARGS (environment) is added to B's command line, e.g. B_ARGS="--config my_odometry.yaml".
 set -euo pipefail
 A=$1 B=$2 OUT=$3 REPS=${4:-3} DUR=${5:-30}
 SEQS=(seq04 seq05 seq06 seq07 seq08 seq11 car_urban side_mount)
 mkdir -p "$OUT"
 for s in "${SEQS[@]}"; do
-  [ -f "$OUT/data/$s/dataset.yaml" ] || "$B" simulate --sequence "$s" --duration "$DUR" --out "$OUT/data/$s" >/dev/null
+  mkdir -p "$OUT/runs/$s"
+  [ -f "$OUT/data/$s/dataset.yaml" ] || "$A" simulate --sequence "$s" --duration "$DUR" --out "$OUT/data/$s" >/dev/null
   for r in $(seq "$REPS"); do
     for which in A B; do
-      bin=$A; [ "$which" = B ] && bin=$B
-      "$bin" odometry "$OUT/data/$s/dataset.yaml" --out "$OUT/runs/$s/$which$r" >/dev/null 2>&1
+      bin=$A extra=()
+      [ "$which" = B ] && bin=$B && read -r -a extra <<<"${B_ARGS:-}"
+      if ! "$bin" odometry "$OUT/data/$s/dataset.yaml" --out "$OUT/runs/$s/$which$r" "${extra[@]}" >/dev/null \
+          2>"$OUT/runs/$s/$which$r.log"; then
+        echo "compare_odometry_time.sh: $bin odometry on $s failed:" >&2
+        tail -3 "$OUT/runs/$s/$which$r.log" >&2
+        exit 1
+      fi
     done
   done
 done

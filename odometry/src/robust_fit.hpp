@@ -78,6 +78,7 @@ struct Workspace {
     Eigen::VectorXd zeros, nans;  ///< stand-ins for a scan's missing columns
     std::vector<Eigen::Index> shuffle;
     Eigen::VectorXd residual, mask, weighted, sort_buffer;
+    Eigen::ArrayXXd direction_noise;  ///< FitWithDirectionNoise's per-point terms (n x 9)
     Eigen::ArrayXd cell_score;
     Eigen::ArrayXi cell_inliers, cell_total, best_cell_inliers;
     Scratch subset_scratch;  ///< RANSAC's buffers on `subset`
