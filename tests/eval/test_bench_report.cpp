@@ -153,6 +153,33 @@ TEST_F(BenchReport, MethodsAreScoredOnCommonStampsAgainstClosedForm) {
     }
 }
 
+TEST_F(BenchReport, CsvCellsWithCommasAndQuotesAreQuoted) {
+    // A grid variant of two keys has a comma in its name; a failed run's note may hold both.
+    const std::string method = "map_doppler[a=1,b=2]";
+    std::vector<BenchRun> runs{Run(RunKind::kOdometry, method), Run(RunKind::kMap, "map_none")};
+    WriteArcRun(runs[0], -1, "velocities.csv", "t,time_ms\n0.05,1\n");
+    std::vector<JobOutcome> outcomes(2);
+    outcomes[0].status = JobStatus::kSucceeded;
+    outcomes[1].status = JobStatus::kFailed;
+    outcomes[1].message = "key \"x\", then y";
+    BenchConfig config;
+    WriteReport(EvaluateRuns(runs, outcomes, config), config, out_.string());
+    // Python's csv module (RFC 4180) is the independent reader: every row has the header's cells
+    // and the names and the note come back whole.
+    const std::string check =
+        std::string(DORADO_SYSTEM_PYTHON) + " -c '\n"
+        "import csv, sys\n"
+        "d = sys.argv[1]\n"
+        "for name, cells in ((\"results.csv\", 11), (\"bench_runs.csv\", 9), (\"rpe_pairs.csv\", 10)):\n"
+        "    rows = list(csv.reader(open(d + \"/\" + name, newline=\"\")))\n"
+        "    assert len(rows) > 1 and all(len(r) == cells for r in rows), (name, rows[:3])\n"
+        "    assert any(r[1] == \"map_doppler[a=1,b=2]\" for r in rows), name\n"
+        "runs = list(csv.DictReader(open(d + \"/bench_runs.csv\", newline=\"\")))\n"
+        "assert any(\"key \\\"x\\\", then y\" in r[\"note\"] for r in runs), runs\n"
+        "' " + out_.string();
+    EXPECT_EQ(std::system(check.c_str()), 0);
+}
+
 TEST_F(BenchReport, ExactReferenceMissingFromOlderSimulationIsNamed) {
     BenchRun run = Run(RunKind::kOdometry, "odom_doppler");
     run.ground_truth = (out_ / "data" / "s1" / "true_trajectory.tum").string();
