@@ -95,6 +95,17 @@ void ResidualAndJacobian(const Match &m, const Eigen::Isometry3d &T, Eigen::Vect
     J.col(2) = (R * Eigen::Vector3d(-m.p_base.y(), m.p_base.x(), 0.0)).head<2>();
 }
 
+// One match's whitened squared residual s, the kernel's IRLS weight rho'(s), r and J at T.
+double RobustWeight(const Match &m, const Eigen::Isometry3d &T, const ceres::LossFunction *loss,
+                    double inv_var, Eigen::Vector2d &r, Eigen::Matrix<double, 2, 3> &J,
+                    double &s) {
+    ResidualAndJacobian(m, T, r, J);
+    s = r.squaredNorm() * inv_var;
+    double rho[3] = {s, 1.0, 0.0};
+    if (loss != nullptr) loss->Evaluate(s, rho);
+    return rho[1];
+}
+
 // The registration's weighted normal equations at T (point-to-point in the plane, residuals
 // whitened by point_sigma_m, the kernel's IRLS weight rho'(s)).
 struct Normal {
@@ -111,11 +122,8 @@ Normal Accumulate(const std::vector<Match> &matches, const Eigen::Isometry3d &T,
     for (const Match &m : matches) {
         Eigen::Vector2d r;
         Eigen::Matrix<double, 2, 3> J;
-        ResidualAndJacobian(m, T, r, J);
-        const double s = r.squaredNorm() * inv_var;
-        double rho[3] = {s, 1.0, 0.0};
-        if (loss != nullptr) loss->Evaluate(s, rho);
-        const double w = rho[1];
+        double s;
+        const double w = RobustWeight(m, T, loss, inv_var, r, J, s);
         n.H += w * inv_var * J.transpose() * J;
         n.g += w * inv_var * J.transpose() * r;
         n.weighted_sq += w * s;
@@ -195,14 +203,12 @@ Eigen::Matrix3d RegistrationCovariancePlanar(const std::vector<Match> &matches,
             for (const Match &m : matches) {
                 Eigen::Vector2d r;
                 Eigen::Matrix<double, 2, 3> J;
-                ResidualAndJacobian(m, T, r, J);
-                const double s = r.squaredNorm() * inv_var;
-                double rho[3] = {s, 1.0, 0.0};
-                if (loss != nullptr) loss->Evaluate(s, rho);
+                double s;
+                const double w = RobustWeight(m, T, loss, inv_var, r, J, s);
                 const std::pair<long, long> key{std::lround(std::floor(m.q_world.x() / cell)),
                                                 std::lround(std::floor(m.q_world.y() / cell))};
                 auto [it, inserted] = g_of.try_emplace(key, Eigen::Vector3d::Zero());
-                it->second += rho[1] * inv_var * J.transpose() * r;
+                it->second += w * inv_var * J.transpose() * r;
             }
             Eigen::Matrix3d meat = Eigen::Matrix3d::Zero();
             for (const auto &[key, g] : g_of) meat += g * g.transpose();

@@ -5,24 +5,17 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 
 #include "dorado/core/require.hpp"
 #include "robust_fit.hpp"
 #include "simd4.hpp"
+#include "validity.hpp"
 
 namespace dorado::odometry {
 namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
-
-std::string Format(double value) {
-    std::ostringstream s;
-    s.precision(4);
-    s << value;
-    return s.str();
-}
 
 // eq. (2) weights from power, normalised to a largest weight of 1, and the inlier gate that
 // follows each point's Doppler noise.
@@ -332,23 +325,10 @@ EgoVelocityResult EgoVelocityEstimator::Estimate(const RadarScan &scan_radar) {
     }
     result.stationary = v.norm() < config_.stationary_speed_mps;
 
-    const double ratio = static_cast<double>(result.inliers) / static_cast<double>(n);
-    if (result.inliers < config_.min_inliers || ratio < config_.min_inlier_ratio) {
-        result.reason = "too few static inliers: " + std::to_string(result.inliers) + " of " +
-                        std::to_string(n) + " points (min_inliers " +
-                        std::to_string(config_.min_inliers) + ", min_inlier_ratio " +
-                        Format(config_.min_inlier_ratio) + ")";
-    } else if (!(result.condition_number <= config_.max_condition_number)) {
-        result.reason = "degenerate geometry: condition number " + Format(result.condition_number) +
-                        " > max_condition_number " + Format(config_.max_condition_number);
-    } else if (!v.allFinite() || !result.cov_v_radar.allFinite()) {
-        result.reason = "non-finite velocity or covariance";
-    } else if (v.norm() > config_.max_speed_mps) {
-        result.reason = "speed " + Format(v.norm()) + " m/s above max_speed_mps " +
-                        Format(config_.max_speed_mps);
-    } else {
-        result.valid = true;
-    }
+    result.reason = internal::InvalidityReason(
+        config_, result.inliers, static_cast<long>(n), result.condition_number,
+        v.allFinite() && result.cov_v_radar.allFinite(), v.norm());
+    result.valid = result.reason.empty();
     return result;
 }
 

@@ -6,20 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
-#include <sstream>
 #include <vector>
+
+#include "validity.hpp"
 
 namespace dorado::odometry {
 namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
-
-std::string Format(double value) {
-    std::ostringstream s;
-    s.precision(4);
-    s << value;
-    return s.str();
-}
 
 // Eq. (1) in the plane for every point that passed the pre-filters: d_i . v = b_i = -doppler_i.
 struct PlanarSystem {
@@ -241,24 +235,10 @@ EgoVelocityResult PlanarEgoVelocityEstimator::Estimate(const RadarScan &scan_rad
                                   : std::numeric_limits<double>::infinity();
     result.stationary = v.norm() < c.stationary_speed_mps;
 
-    const double ratio = static_cast<double>(result.inliers) / n;
-    if (result.inliers < c.min_inliers || ratio < c.min_inlier_ratio) {
-        result.reason = "too few static inliers: " + std::to_string(result.inliers) + " of " +
-                        std::to_string(n) + " points (min_inliers " +
-                        std::to_string(c.min_inliers) + ", min_inlier_ratio " +
-                        Format(c.min_inlier_ratio) + ")";
-    } else if (!(result.condition_number <= c.max_condition_number)) {
-        result.reason = "degenerate geometry: condition number " +
-                        Format(result.condition_number) + " > max_condition_number " +
-                        Format(c.max_condition_number);
-    } else if (!v.allFinite() || !cov.allFinite()) {
-        result.reason = "non-finite velocity or covariance";
-    } else if (v.norm() > c.max_speed_mps) {
-        result.reason = "speed " + Format(v.norm()) + " m/s above max_speed_mps " +
-                        Format(c.max_speed_mps);
-    } else {
-        result.valid = true;
-    }
+    result.reason = internal::InvalidityReason(c, result.inliers, static_cast<long>(n),
+                                               result.condition_number,
+                                               v.allFinite() && cov.allFinite(), v.norm());
+    result.valid = result.reason.empty();
     return result;
 }
 
