@@ -189,7 +189,7 @@ Eigen::Matrix3d RegistrationCovariancePlanar(const std::vector<Match> &matches,
     const Eigen::Matrix3d H_inv = Inverse(n.H);
     residual_scale = n.weights > 0.0 ? std::sqrt(n.weighted_sq / n.weights) : 0.0;
     clusters = 0;
-    Eigen::Matrix3d C;
+    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
     switch (config.registration_covariance) {
         case RegistrationCovarianceModel::kIndependent:
             C = H_inv;
