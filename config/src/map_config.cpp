@@ -33,7 +33,6 @@ MapCommandConfig LoadMapConfig(const std::string &yaml_path) {
     } catch (const std::invalid_argument &e) {
         throw KeyError(yaml_path, e);
     }
-    if (!(config.output_voxel_m > 0.0)) reader.Section("output").Fail("map_voxel_m", "must be > 0");
     return config;
 }
 

@@ -182,6 +182,10 @@ mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometrySt
 
 void RadarFrontEnd::State::CalibrateYawLever(FrontEndResult &result) {
     const odometry::OdometryStep &step = result.odometry;
+    if (step.planar) {  // a 2D radar's model (Ackermann in the plane) has no eq. 5 lever
+        result.yaw_calibration = {};
+        return;
+    }
     const mapping::RegistrationResult &reg = result.registration;
     // A window needs every scan's own Doppler yaw (eq. 5 on this scan's velocity, no fallback)
     // and every pose registered, with the yaw among the directions the map observes.

@@ -164,10 +164,11 @@ int RadarMapper::fallbacks() const {
     return state_->fallbacks;
 }
 void RadarMapper::SetPlanar() {
-    if (state_->window)
+    if (state_->window || state_->config.refinement == Refinement::kFilter)
         throw std::invalid_argument(
-            "refinement window: not for a 2D radar (planar mode registers x, y and yaw); use "
-            "refinement ceres or none");
+            std::string("refinement ") + ToString(state_->config.refinement) +
+            ": not for a 2D radar (planar mode registers x, y and yaw); use refinement ceres or "
+            "none");
     state_->planar = true;
 }
 bool RadarMapper::planar() const {
@@ -257,7 +258,9 @@ Refined RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
     Refined out;
     out.T_map = T_aligned;
     out.T_world_base = ceres ? prior.T_world_base : T_aligned;
-    out.covariance = prior.covariance;
+    // Until a refinement fuses: the motion prior's covariance (with `filter`, `prior` carries the
+    // filter's P^-, relative to the map, not the scan's motion).
+    out.covariance = prior_map.covariance;
     out.association = association;
     const std::vector<DopplerObservation> doppler =
         (config.use_doppler && has_pose && !NeedsDoppler(prior.kind))

@@ -17,15 +17,14 @@ namespace dorado::config {
 struct MapCommandConfig {
     mapping::MapperConfig mapper;
     mapping::PriorNoiseConfig prior;
-    double output_voxel_m = 0.3;  ///< density of map.pcd / map.ply / map.png
 };
 
-/// The whole file's fields: mapper.*, prior.*, output.*.
+/// The whole file's fields: mapper.*, prior.* (map.pcd / map.ply / map.png are the mapper's own
+/// map: its points as added, no output setting).
 template <typename Visitor>
 void VisitFields(MapCommandConfig &c, Visitor &&v) {
     VisitFields(c.mapper, Prefixed{"mapper.", v});
     VisitFields(c.prior, Prefixed{"prior.", v});
-    v("output.map_voxel_m", c.output_voxel_m, "density of map.pcd / map.ply / map.png [m]");
 }
 
 /// Reads and validates a mapper YAML file. Unknown keys, wrong types and bad values throw
