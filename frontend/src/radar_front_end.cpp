@@ -53,24 +53,6 @@ mapping::BaseTwist PriorTwist(const odometry::OdometryStep &step) {
             step.covariance_used.bottomRightCorner<3, 3>()};
 }
 
-// The road's up-vector in the base frame from the scan's plane fit, for the mapper's ground
-// residual: the plane's normal (-a, -b, 1) normalised; its x and y are -sin(pitch) and
-// sin(roll) cos(pitch), so to first order their covariance is the fit's roll/pitch covariance
-// turned by 90 degrees, plus the road's slope about level (road_slope_sigma_deg): the ground is the
-// road, not gravity.
-mapping::GroundUp GroundUpOf(const odometry::GroundObservation &fit,
-                             const odometry::GroundAttitudeConfig &ground) {
-    mapping::GroundUp up;
-    up.up_base = Eigen::Vector3d(-fit.slope.x(), -fit.slope.y(), 1.0).normalized();
-    Eigen::Matrix2d M;
-    M << 0.0, -1.0, 1.0, 0.0;  // [up_x, up_y] = M [roll, pitch] to first order
-    const double slope_rad = ground.road_slope_sigma_deg * M_PI / 180.0;
-    up.covariance = M * fit.cov_roll_pitch * M.transpose() +
-                    slope_rad * slope_rad * Eigen::Matrix2d::Identity();
-    up.max_innovation_chi2 = ground.max_innovation_chi2;
-    return up;
-}
-
 // "no valid velocity: too few points (3 < 10)" -> "doppler: no valid velocity".
 std::string Cause(const std::string &reason) {
     return "doppler: " + reason.substr(0, reason.find(':'));
@@ -216,6 +198,21 @@ void RadarFrontEnd::State::CalibrateYawLever(FrontEndResult &result) {
         odometry.SetYawLever(result.yaw_calibration.s_x_m);
 }
 
+// The plane's normal (-a, -b, 1) normalised; its x and y are -sin(pitch) and sin(roll) cos(pitch),
+// so to first order their covariance is the fit's roll/pitch covariance turned by 90 degrees.
+mapping::GroundUp GroundUpFromFit(const odometry::GroundObservation &fit,
+                             const odometry::GroundAttitudeConfig &ground) {
+    mapping::GroundUp up;
+    up.up_base = Eigen::Vector3d(-fit.slope.x(), -fit.slope.y(), 1.0).normalized();
+    Eigen::Matrix2d M;
+    M << 0.0, -1.0, 1.0, 0.0;  // [up_x, up_y] = M [roll, pitch] to first order
+    const double slope_rad = ground.road_slope_sigma_deg * M_PI / 180.0;
+    up.covariance = M * fit.cov_roll_pitch * M.transpose() +
+                    slope_rad * slope_rad * Eigen::Matrix2d::Identity();
+    up.max_innovation_chi2 = ground.max_innovation_chi2;
+    return up;
+}
+
 RadarFrontEnd::RadarFrontEnd(FrontEndConfig config, const Extrinsics &extrinsics,
                              const VehicleGeometry &geometry)
     : state_(std::make_unique<State>(std::move(config), extrinsics, geometry)) {}
@@ -277,7 +274,7 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
              s.config.mapper.refinement == mapping::Refinement::kFilter);
         std::optional<mapping::GroundUp> ground_up;
         if (ground_factor && step.ground.fit.valid)
-            ground_up = GroundUpOf(step.ground.fit, s.odometry.ground_config());
+            ground_up = GroundUpFromFit(step.ground.fit, s.odometry.ground_config());
         if (s.config.odometry.ground.enabled && !ground_factor &&
             result.prior_used == mapping::PriorKind::kDoppler) {
             // The twist carries no attitude correction: the prior's roll and pitch get the
