@@ -201,7 +201,7 @@ void RadarFrontEnd::State::CalibrateYawLever(FrontEndResult &result) {
 // The plane's normal (-a, -b, 1) normalised; its x and y are -sin(pitch) and sin(roll) cos(pitch),
 // so to first order their covariance is the fit's roll/pitch covariance turned by 90 degrees.
 mapping::GroundUp GroundUpFromFit(const odometry::GroundObservation &fit,
-                             const odometry::GroundAttitudeConfig &ground) {
+                                  const odometry::GroundAttitudeConfig &ground) {
     mapping::GroundUp up;
     up.up_base = Eigen::Vector3d(-fit.slope.x(), -fit.slope.y(), 1.0).normalized();
     Eigen::Matrix2d M;
@@ -268,10 +268,10 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
         // refined poses' absolute roll and pitch when the mapper's refinement takes one (ceres,
         // filter; 3-D; priors without the gyro), otherwise in the doppler prior (below). Not
         // both: the prior's roll/pitch and the residual would count the same plane twice.
-        const bool ground_factor =
-            s.config.odometry.ground.enabled && !step.planar && !mapping::NeedsImu(s.config.prior) &&
-            (s.config.mapper.refinement == mapping::Refinement::kCeres ||
-             s.config.mapper.refinement == mapping::Refinement::kFilter);
+        const bool ground_factor = s.config.odometry.ground.enabled && !step.planar &&
+                                   !mapping::NeedsImu(s.config.prior) &&
+                                   (s.config.mapper.refinement == mapping::Refinement::kCeres ||
+                                    s.config.mapper.refinement == mapping::Refinement::kFilter);
         std::optional<mapping::GroundUp> ground_up;
         if (ground_factor && step.ground.fit.valid)
             ground_up = GroundUpFromFit(step.ground.fit, s.odometry.ground_config());

@@ -30,7 +30,8 @@ class GroundUpError {
         Eigen::Map<const Eigen::Quaternion<T>> q_world_base(q_ptr);
         const Eigen::Matrix<T, 3, 1> up_of_pose =
             q_world_base.conjugate() * Eigen::Matrix<T, 3, 1>(T(0), T(0), T(1));
-        const Eigen::Matrix<T, 2, 1> e = up_base_.head<2>().cast<T>() - up_of_pose.template head<2>();
+        const Eigen::Matrix<T, 2, 1> e =
+            up_base_.head<2>().cast<T>() - up_of_pose.template head<2>();
         Eigen::Map<Eigen::Matrix<T, 2, 1>> residuals(residuals_ptr);
         residuals = sqrt_information_.cast<T>() * e;
         return true;

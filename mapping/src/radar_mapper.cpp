@@ -138,8 +138,7 @@ struct RadarMapper::State {
                                  const std::vector<DopplerObservation> &doppler_all,
                                  const MotionPrior &prior_map, const MotionPrior &prior,
                                  double dt_s, double threshold_m, const Association &association,
-                                 const Eigen::Isometry3d &T_aligned,
-                                 const GroundUp *ground) const;
+                                 const Eigen::Isometry3d &T_aligned, const GroundUp *ground) const;
     [[nodiscard]] Eigen::Isometry3d SmoothWindow(const std::vector<DopplerObservation> &doppler,
                                                  const std::vector<Correspondence> &matches,
                                                  const MotionPrior &prior, double dt_s,
@@ -438,9 +437,9 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
             s.threshold.Update(prior_map.T_world_base.inverse() * reg.T_map);
         }
     } else {
-        const MapRegistration reg = s.RegisterToMap(source_base, points.doppler, prior_map,
-                                                    prior_output, dt_s, result.threshold_m,
-                                                    ground_base);
+        const MapRegistration reg =
+            s.RegisterToMap(source_base, points.doppler, prior_map, prior_output, dt_s,
+                            result.threshold_m, ground_base);
         result.fallback_cause = reg.cause;
         result.fallback_detail = reg.detail;
         result.observability = reg.association.observability;

@@ -84,8 +84,8 @@ bool AddGround(ceres::Problem &problem, const GroundUp *ground, const MotionPrio
     if (ground == nullptr) return false;
     if (!GroundConsistent(*ground, prior.T_world_base, prior.covariance.bottomRightCorner<3, 3>()))
         return false;
-    problem.AddResidualBlock(GroundUpError::Create(*ground), const_cast<ceres::LossFunction *>(loss),
-                             pose.q.coeffs().data());
+    problem.AddResidualBlock(GroundUpError::Create(*ground),
+                             const_cast<ceres::LossFunction *>(loss), pose.q.coeffs().data());
     return true;
 }
 

@@ -120,7 +120,8 @@ TEST(GroundFactor, RefinementRecoversTheTrueRollAndPitchOfADriftedMap) {
     EXPECT_FALSE(alone.ground_used);
     // Without the ground both poses keep the drifted attitude.
     EXPECT_GT(RollPitchErrorDeg(alone.T_world_base, d.T_true).cwiseAbs().maxCoeff(), 2.0);
-    EXPECT_GT(RollPitchErrorDeg(alone.registered.T_world_base, d.T_true).cwiseAbs().maxCoeff(), 2.0);
+    EXPECT_GT(RollPitchErrorDeg(alone.registered.T_world_base, d.T_true).cwiseAbs().maxCoeff(),
+              2.0);
 
     const RefinementOutput with = d.Refine(&d.ground);
     ASSERT_TRUE(with.usable);
