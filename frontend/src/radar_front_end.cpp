@@ -202,6 +202,21 @@ void RadarFrontEnd::State::CalibrateYawLever(FrontEndResult &result) {
         odometry.SetYawLever(result.yaw_calibration.s_x_m);
 }
 
+// The plane's normal (-a, -b, 1) normalised; its x and y are -sin(pitch) and sin(roll) cos(pitch),
+// so to first order their covariance is the fit's roll/pitch covariance turned by 90 degrees.
+mapping::GroundUp GroundUpFromFit(const odometry::GroundObservation &fit,
+                                  const odometry::GroundAttitudeConfig &ground) {
+    mapping::GroundUp up;
+    up.up_base = Eigen::Vector3d(-fit.slope.x(), -fit.slope.y(), 1.0).normalized();
+    Eigen::Matrix2d M;
+    M << 0.0, -1.0, 1.0, 0.0;  // [up_x, up_y] = M [roll, pitch] to first order
+    const double slope_rad = ground.road_slope_sigma_deg * M_PI / 180.0;
+    up.covariance = M * fit.cov_roll_pitch * M.transpose() +
+                    slope_rad * slope_rad * Eigen::Matrix2d::Identity();
+    up.max_innovation_chi2 = ground.max_innovation_chi2;
+    return up;
+}
+
 RadarFrontEnd::RadarFrontEnd(FrontEndConfig config, const Extrinsics &extrinsics,
                              const VehicleGeometry &geometry)
     : state_(std::make_unique<State>(std::move(config), extrinsics, geometry)) {}
@@ -253,7 +268,19 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
         const auto t_prior = Clock::now();
         const double dt_s = s.scans_since_reset == 0 ? mapping::kFirstScanIntervalS : step.dt_s;
         result.prior = s.BuildPrior(step, scan_radar.stamp_ns, dt_s, result);
-        if (s.config.odometry.ground.enabled && result.prior_used == mapping::PriorKind::kDoppler) {
+        // The ground (ground.enabled) reaches the radar-only map once: as a residual on the
+        // refined poses' absolute roll and pitch when the mapper's refinement takes one (ceres,
+        // filter; 3-D; priors without the gyro), otherwise in the doppler prior (below). Not
+        // both: the prior's roll/pitch and the residual would count the same plane twice.
+        const bool ground_factor = s.config.odometry.ground.enabled && !step.planar &&
+                                   !mapping::NeedsImu(s.config.prior) &&
+                                   (s.config.mapper.refinement == mapping::Refinement::kCeres ||
+                                    s.config.mapper.refinement == mapping::Refinement::kFilter);
+        std::optional<mapping::GroundUp> ground_up;
+        if (ground_factor && step.ground.fit.valid)
+            ground_up = GroundUpFromFit(step.ground.fit, s.odometry.ground_config());
+        if (s.config.odometry.ground.enabled && !ground_factor &&
+            result.prior_used == mapping::PriorKind::kDoppler) {
             // The twist carries no attitude correction: the prior's roll and pitch get the
             // ground's, filtered on the mapper's own chain (the first scan initialises them).
             odometry::GroundAttitudeStep ground;
@@ -266,7 +293,8 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
         // The gyro feeds the window smoother when the prior is an IMU one.
         const bool gyro = mapping::NeedsImu(s.config.prior) && gyro_base.allFinite();
         result.registration =
-            s.mapper->Register(scan_radar, result.prior, dt_s, mask, gyro ? &gyro_base : nullptr);
+            s.mapper->Register(scan_radar, result.prior, dt_s, mask, gyro ? &gyro_base : nullptr,
+                               ground_up ? &*ground_up : nullptr);
         result.times.mapper = result.registration.times;
         result.T_world_base = result.registration.T_world_base;
         if (s.yaw_calibrator) s.CalibrateYawLever(result);

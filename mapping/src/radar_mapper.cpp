@@ -79,6 +79,7 @@ struct Refined {
     RegisteredPose registered;
     Association association;
     int doppler_residuals = 0;
+    bool ground_used = false;
 };
 
 // What RegisterToMap computed: the checks (cause kNone: trusted) and their numbers, then the
@@ -132,12 +133,12 @@ struct RadarMapper::State {
                                                 const std::vector<DopplerObservation> &doppler,
                                                 const MotionPrior &prior_map,
                                                 const MotionPrior &prior, double dt_s,
-                                                double threshold_m);
+                                                double threshold_m, const GroundUp *ground);
     [[nodiscard]] Refined Refine(const Eigen::Matrix3Xd &source_base,
                                  const std::vector<DopplerObservation> &doppler_all,
                                  const MotionPrior &prior_map, const MotionPrior &prior,
                                  double dt_s, double threshold_m, const Association &association,
-                                 const Eigen::Isometry3d &T_aligned) const;
+                                 const Eigen::Isometry3d &T_aligned, const GroundUp *ground) const;
     [[nodiscard]] Eigen::Isometry3d SmoothWindow(const std::vector<DopplerObservation> &doppler,
                                                  const std::vector<Correspondence> &matches,
                                                  const MotionPrior &prior, double dt_s,
@@ -252,7 +253,8 @@ Refined RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
                                    const std::vector<DopplerObservation> &doppler_all,
                                    const MotionPrior &prior_map, const MotionPrior &prior,
                                    double dt_s, double threshold_m, const Association &association,
-                                   const Eigen::Isometry3d &T_aligned) const {
+                                   const Eigen::Isometry3d &T_aligned,
+                                   const GroundUp *ground) const {
     const bool filter = config.refinement == Refinement::kFilter;
     const bool ceres = config.refinement == Refinement::kCeres || filter;  // two chains
     Refined out;
@@ -287,10 +289,12 @@ Refined RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
         input.dt_s = dt_s;
         input.prior_output = &prior;
         input.T_world_base_prev_output = T_world_base_last;
+        input.ground = ceres ? ground : nullptr;
         const RefinementOutput refined =
             ceres ? RefinePose(input, config) : RegisterAlone(input, config);
         if (!refined.usable) break;
         out.registered = refined.registered;
+        out.ground_used = refined.ground_used;
         if (ceres) {
             out.T_map = refined.registered.T_world_base;
             out.T_world_base = refined.T_world_base;
@@ -337,7 +341,7 @@ MapRegistration RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source
                                                   const std::vector<DopplerObservation> &doppler,
                                                   const MotionPrior &prior_map,
                                                   const MotionPrior &prior, double dt_s,
-                                                  double threshold_m) {
+                                                  double threshold_m, const GroundUp *ground) {
     MapRegistration out;
     const auto t_reg = Clock::now();
     const PclAlignment aligned =
@@ -356,7 +360,7 @@ MapRegistration RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source
 
     const auto t_refine = Clock::now();
     out.refined = Refine(source_base, doppler, prior_map, prior, dt_s, threshold_m, out.association,
-                         aligned.T_world_base);
+                         aligned.T_world_base, ground);
     out.refinement_ms = MillisecondsSince(t_refine);
     // kiss-icp: the threshold adapts to how far registration corrected the prior.
     threshold.Update(prior_map.T_world_base.inverse() * out.refined.T_map);
@@ -365,7 +369,8 @@ MapRegistration RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source
 
 RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const MotionPrior &prior,
                                          double dt_s, const PointMask *static_mask,
-                                         const Eigen::Vector3d *gyro_base_radps) {
+                                         const Eigen::Vector3d *gyro_base_radps,
+                                         const GroundUp *ground_base) {
     State &s = *state_;
     const MapperConfig &config = s.config;
     if (static_mask != nullptr && static_mask->size() != scan_radar.size())
@@ -435,8 +440,9 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
             s.threshold.Update(prior_map.T_world_base.inverse() * reg.T_map);
         }
     } else {
-        const MapRegistration reg = s.RegisterToMap(source_base, points.doppler, prior_map,
-                                                    prior_output, dt_s, result.threshold_m);
+        const MapRegistration reg =
+            s.RegisterToMap(source_base, points.doppler, prior_map, prior_output, dt_s,
+                            result.threshold_m, ground_base);
         result.fallback_cause = reg.cause;
         result.fallback_detail = reg.detail;
         result.observability = reg.association.observability;
@@ -456,6 +462,7 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
             result.correspondences = refined.association.count;
             result.fitness_rms_m = refined.association.rms_m;
             result.doppler_residuals = refined.doppler_residuals;
+            result.ground_used = refined.ground_used;
             if (s.window) window_matches = reg.association.matches;
         }
     }

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "cost_functions.hpp"
+#include "ground_factor.hpp"
 #include "pose_information.hpp"
 #include "registration.hpp"
 #include "robust_loss.hpp"
@@ -75,6 +76,19 @@ void AddRegistration(ceres::Problem &problem, const RefinementInput &input,
                                  pose.q.coeffs().data());
 }
 
+// The ground's residual on the pose's absolute roll and pitch, when the observation is consistent
+// with the step's prior (its rotation covariance; a ridge or a kerb under the vehicle tilts the
+// fitted plane beyond it) and robust like the registration's. True when it was added.
+bool AddGround(ceres::Problem &problem, const GroundUp *ground, const MotionPrior &prior,
+               const ceres::LossFunction *loss, PoseBlocks &pose) {
+    if (ground == nullptr) return false;
+    if (!GroundConsistent(*ground, prior.T_world_base, prior.covariance.bottomRightCorner<3, 3>()))
+        return false;
+    problem.AddResidualBlock(GroundUpError::Create(*ground),
+                             const_cast<ceres::LossFunction *>(loss), pose.q.coeffs().data());
+    return true;
+}
+
 }  // namespace
 
 RefinementOutput RegisterAlone(const RefinementInput &input, const MapperConfig &config) {
@@ -97,7 +111,8 @@ namespace {
 // Step 1: registration + Doppler + prior residuals on the map's chain (the refinement of the
 // previous releases, whose registered poses keep the map consistent).
 bool RegisterJointly(const RefinementInput &input, const MapperConfig &config,
-                     const ceres::LossFunction *loss, PoseBlocks &pose, int &iterations) {
+                     const ceres::LossFunction *loss, PoseBlocks &pose, int &iterations,
+                     bool &ground_used) {
     ceres::Problem problem(ProblemOptions());
     AddRegistration(problem, input, loss, pose);
     AddDoppler(problem, input, input.doppler_registration, input.T_world_base_prev, config, loss,
@@ -105,6 +120,7 @@ bool RegisterJointly(const RefinementInput &input, const MapperConfig &config,
     problem.AddResidualBlock(PriorError::Create(input.prior->T_world_base,
                                                 InverseCholeskyFactor<6>(input.prior->covariance)),
                              nullptr, pose.t.data(), pose.q.coeffs().data());
+    ground_used = AddGround(problem, input.ground, *input.prior, loss, pose);
     return Solve(problem, pose, config, iterations);
 }
 
@@ -125,7 +141,8 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
     const auto loss = MakeLoss(config.kernel, config.kernel_scale);
     // 1. The registered pose and its covariance.
     PoseBlocks registered(input.T_world_base_initial);
-    if (!RegisterJointly(input, config, loss.get(), registered, out.iterations)) return out;
+    if (!RegisterJointly(input, config, loss.get(), registered, out.iterations, out.ground_used))
+        return out;
     out.registered = RegistrationCovariance(registered.Pose(), *input.matches, loss.get(), config);
     if (!out.registered.valid) return out;
     if (out.registered.weak_directions > 0) {
@@ -150,6 +167,10 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
                              nullptr, pose.t.data(), pose.q.coeffs().data());
     AddDoppler(problem, input, input.doppler, input.T_world_base_prev_output, config, loss.get(),
                pose);
+    // The ground again on the output's chain (its own estimate of the same scan: once per chain).
+    // Its information is not added to the covariance below, which is this scan's motion's
+    // relative to the map and the previous pose, not the absolute attitude's.
+    out.ground_used = AddGround(problem, input.ground, prior, loss.get(), pose) || out.ground_used;
     if (!Solve(problem, pose, config, out.iterations)) return out;
     out.usable = true;
     out.T_world_base = pose.Pose();

@@ -63,6 +63,9 @@ struct RefinementInput {
     /// previous pose. RefinePose fuses the registered pose into it.
     const MotionPrior *prior_output = nullptr;
     Eigen::Isometry3d T_world_base_prev_output = Eigen::Isometry3d::Identity();
+    /// The road's up-vector seen in this scan (none: no ground residual): held against the
+    /// absolute roll and pitch of both steps' poses, each chain's once.
+    const GroundUp *ground = nullptr;
 };
 
 struct RefinementOutput {
@@ -71,6 +74,7 @@ struct RefinementOutput {
     int iterations = 0;
     Matrix6d covariance = Matrix6d::Zero();  ///< of T_world_base (xi convention, pose_information)
     RegisteredPose registered;               ///< the registered pose and its covariance
+    bool ground_used = false;  ///< the ground residual joined (passed the innovation gate)
 };
 
 /// The registration alone and its covariance (registration_covariance) in `registered`, for
@@ -85,6 +89,9 @@ struct RefinementOutput {
 /// 2. The output pose: the output chain's prior fused with that registered pose as one 6-DoF
 /// measurement (and the Doppler residuals when the prior does not carry them), each by its
 /// information. T_world_base is the output, `registered` the registered pose.
+/// With input.ground, each step also holds its pose's roll and pitch to the road's up-vector
+/// (ground_factor.hpp), robustly and when its innovation against that step's prior passes the
+/// observation's gate.
 /// refinement.cpp.
 [[nodiscard]] RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &config);
 

@@ -96,6 +96,13 @@ struct FrontEndResult {
     FrontEndTimes times;
 };
 
+/// The road's up-vector in the base frame from a scan's plane fit (`fit` valid), for the mapper's
+/// ground residual (mapping::GroundUp): its covariance is the fit's plus the road's own slope about
+/// level (ground.road_slope_sigma_deg, the ground is the road, not gravity), its gate the ground's
+/// max_innovation_chi2.
+[[nodiscard]] mapping::GroundUp GroundUpFromFit(const odometry::GroundObservation &fit,
+                                                const odometry::GroundAttitudeConfig &ground);
+
 class RadarFrontEnd {
   public:
     /// Validates the config; throws std::invalid_argument for a bad config or an unobservable

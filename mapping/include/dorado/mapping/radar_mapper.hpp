@@ -187,6 +187,9 @@ struct RegistrationResult {
         0.0;                   ///< of the registered pose (prior + registration noise)
     double threshold_m = 0.0;  ///< correspondence threshold used
     int doppler_residuals = 0;
+    /// The scan's ground (Register's ground_base) joined the refinement (refinement ceres or
+    /// filter, 3-D, registered, and consistent with the prior).
+    bool ground_used = false;
     bool map_updated = false;
     /// The points this scan added to the mapper's map, world frame, placed at the pose the map is
     /// built from (the registered pose with refinement ceres, the output with none and window):
@@ -213,11 +216,14 @@ class RadarMapper {
     /// interval over which the Doppler residuals compare the pose's velocity). With static_mask,
     /// only points flagged true are registered, used as Doppler residuals and added to the map.
     /// gyro_base_radps (the interval's mean gyro rate in the base frame) feeds the window
-    /// smoother's gyro factor; other refinements ignore it. Throws std::invalid_argument on a mask
+    /// smoother's gyro factor; other refinements ignore it. ground_base (the road's up-vector seen
+    /// in this scan) holds the refined poses' roll and pitch with refinement ceres and filter in
+    /// 3-D (not in planar mode, not with none or window). Throws std::invalid_argument on a mask
     /// of the wrong size or a non-finite dt.
     RegistrationResult Register(const RadarScan &scan_radar, const MotionPrior &prior, double dt_s,
                                 const PointMask *static_mask = nullptr,
-                                const Eigen::Vector3d *gyro_base_radps = nullptr);
+                                const Eigen::Vector3d *gyro_base_radps = nullptr,
+                                const GroundUp *ground_base = nullptr);
 
     [[nodiscard]] const LocalMap &local_map() const;
     [[nodiscard]] const MapperConfig &config() const;
