@@ -117,11 +117,11 @@ void RunTwist(const TwistOptions &opt) {
         valid += twist.valid;
         radars_used += twist.radars_used;
         csv << NanosToSeconds(stamp) << ',' << twist.valid << ',' << twist.twist(0) << ','
-            << twist.twist(1) << ',' << twist.twist(2) << ','
-            << std::sqrt(twist.covariance(0, 0)) << ',' << std::sqrt(twist.covariance(1, 1))
-            << ',' << std::sqrt(twist.covariance(2, 2)) << ',' << twist.radars_used << ','
-            << twist.points_used << ',' << twist.residual_sigma_mps << ',' << ego.valid << ','
-            << motion.v_base_mps.x() << ',' << motion.omega_base_radps.z() << '\n';
+            << twist.twist(1) << ',' << twist.twist(2) << ',' << std::sqrt(twist.covariance(0, 0))
+            << ',' << std::sqrt(twist.covariance(1, 1)) << ',' << std::sqrt(twist.covariance(2, 2))
+            << ',' << twist.radars_used << ',' << twist.points_used << ','
+            << twist.residual_sigma_mps << ',' << ego.valid << ',' << motion.v_base_mps.x() << ','
+            << motion.omega_base_radps.z() << '\n';
     }
     io::WriteFileAtomically(opt.out + "/twist.csv", [&](std::ostream &os) { os << csv.str(); });
     io::WriteTum(opt.out + "/trajectory.tum", trajectory);
@@ -133,9 +133,9 @@ void RunTwist(const TwistOptions &opt) {
                               {"radars_used_mean", n > 0 ? radars_used / n : 0.0},
                               {"path_length_m", trajectory.PathLength()}};
     WriteSummary(opt.out, summary);
-    std::fprintf(stderr, "twist: %zu scans of %s, %d with a joint twist (%.2f radars each), -> %s\n",
-                 n, reference.name.c_str(), valid, n > 0 ? radars_used / n : 0.0,
-                 opt.out.c_str());
+    std::fprintf(stderr,
+                 "twist: %zu scans of %s, %d with a joint twist (%.2f radars each), -> %s\n", n,
+                 reference.name.c_str(), valid, n > 0 ? radars_used / n : 0.0, opt.out.c_str());
 }
 
 }  // namespace

@@ -46,7 +46,7 @@ class MapOutputs {
     int fallbacks_ = 0, unmasked_ = 0, scans_ = 0;
     /// Fallbacks per kYoungMapS-long interval since the first scan (when they happen in a run).
     std::vector<int> fallbacks_by_time_;
-    odometry::YawCalibrationStep yaw_calibration_;         ///< the last scan's (online s_x)
+    odometry::YawCalibrationStep yaw_calibration_;       ///< the last scan's (online s_x)
     std::map<std::string, int> yaw_calibration_counts_;  ///< scans by calibration status
     int64_t first_stamp_ns_ = -1;
     std::size_t max_local_map_points_ = 0;

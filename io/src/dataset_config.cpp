@@ -257,7 +257,8 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
     vehicle.RejectUnknownKeys();
     config.radar = ReadRadarSensor(top.Child("radar"));
 
-    if (top.Has("radars")) {  // several radars: a list of {name, scans_dir, timestamps_file, T_base_radar}
+    if (top.Has("radars")) {  // several radars: a list of {name, scans_dir, timestamps_file,
+                              // T_base_radar}
         const YAML::Node list = root["radars"];
         if (!list.IsSequence()) top.Fail("radars", "must be a list of radars");
         if (config.reader != ReaderKind::kFolder) top.Fail("radars", "needs reader: folder");

@@ -13,8 +13,12 @@ namespace {
 
 }  // namespace
 
-std::vector<TopicSummary> ListRosbag2Topics(const DatasetConfig &config) { Refuse(config); }
+std::vector<TopicSummary> ListRosbag2Topics(const DatasetConfig &config) {
+    Refuse(config);
+}
 
-std::unique_ptr<DatasetReader> OpenRosbag2Reader(const DatasetConfig &config) { Refuse(config); }
+std::unique_ptr<DatasetReader> OpenRosbag2Reader(const DatasetConfig &config) {
+    Refuse(config);
+}
 
 }  // namespace dorado::io

@@ -304,7 +304,8 @@ Eigen::Matrix3Xd LocalMap::Update(const Eigen::Matrix3Xd &points_world,
     // A voxel is kept or dropped whole: an added point is in the map iff its voxel still is.
     Eigen::Index kept = 0;
     for (Eigen::Index i = 0; i < n; ++i)
-        if (m.voxels.find(m.KeyOf(added.col(i))) != m.voxels.end()) added.col(kept++) = added.col(i);
+        if (m.voxels.find(m.KeyOf(added.col(i))) != m.voxels.end())
+            added.col(kept++) = added.col(i);
     added.conservativeResize(3, kept);
     return added;
 }
