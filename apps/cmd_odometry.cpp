@@ -12,6 +12,7 @@
 #include "dorado/core/time.hpp"
 #include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/io/atomic_file.hpp"
+#include "dorado/io/csv_text.hpp"
 #include "dorado/io/dataset.hpp"
 #include "dorado/io/trajectory_io.hpp"
 #include "progress.hpp"
@@ -31,12 +32,6 @@ std::string Num(double v) {
     std::ostringstream s;
     s << std::setprecision(9) << v;
     return s.str();
-}
-
-std::string CsvText(std::string text) {  // quoted, with inner quotes doubled
-    std::string out = "\"";
-    for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return out + "\"";
 }
 
 void AppendCovariance(std::ostream &row, const Eigen::Matrix3d &C) {
@@ -80,7 +75,8 @@ std::string CsvRow(const odometry::OdometryStep &step, Eigen::Index points,
     // The fallback reason starts with the estimator's reason when the scan was invalid.
     const std::string reason =
         step.used_fallback ? step.fallback_reason : (e.valid ? "" : e.reason);
-    row << ',' << e.inliers << ',' << points << ',' << (e.valid ? 1 : 0) << ',' << CsvText(reason);
+    row << ',' << e.inliers << ',' << points << ',' << (e.valid ? 1 : 0) << ','
+        << io::CsvQuoted(reason);
     for (int k = 0; k < 3; ++k) row << ',' << Num(gyro_base[k]);
     row << ',' << Num(time_ms);
     // The kinematic model's own error (vehicle.model_noise): add it to cov_omega for the total.
@@ -172,8 +168,8 @@ void RunOdometry(const OdometryOptions &opt) {
                  if (!step.ego.valid && method != odometry::OdometryMethod::kImu) {
                      const std::string kind = step.ego.reason.substr(0, step.ego.reason.find(':'));
                      if (invalid_reasons[kind]++ == 0)
-                         first_invalid[kind] = "scan " + std::to_string(event.scan_index) + ": " +
-                                               step.ego.reason;
+                         first_invalid[kind] =
+                             "scan " + std::to_string(event.scan_index) + ": " + step.ego.reason;
                  } else if (step.ego.points_used > 0) {
                      inlier_ratios.push_back(static_cast<double>(step.ego.inliers) /
                                              step.ego.points_used);

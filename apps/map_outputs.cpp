@@ -5,6 +5,7 @@
 
 #include "dorado/core/time.hpp"
 #include "dorado/io/atomic_file.hpp"
+#include "dorado/io/csv_text.hpp"
 #include "dorado/io/point_cloud_files.hpp"
 #include "dorado/io/trajectory_io.hpp"
 #include "map_image.hpp"
@@ -16,12 +17,6 @@ constexpr const char *kCsvHeader =
     "t,time_doppler_ms,time_prior_ms,time_preprocess_ms,time_registration_ms,time_refinement_ms,"
     "time_map_update_ms,time_total_ms,correspondences,fitness,fallback,fallback_reason,prior,"
     "prior_substitution,local_map_points,s_x_online_m,sigma_s_x_online_m,yaw_calibration\n";
-
-std::string Quoted(const std::string &text) {
-    std::string out = "\"";
-    for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return out + "\"";
-}
 
 // "bad fitness (rms 1.7 m)": the cause and its numbers, for scans.csv.
 std::string Reason(const mapping::RegistrationResult &r) {
@@ -87,9 +82,10 @@ void MapOutputs::Add(const frontend::FrontEndResult &result) {
                   NanosToSeconds(result.stamp_ns), t.doppler_ms, t.prior_ms, t.mapper.preprocess_ms,
                   t.mapper.registration_ms, t.mapper.refinement_ms, t.mapper.map_update_ms,
                   t.total_ms, r.correspondences, r.fitness_rms_m, r.fallback() ? 1 : 0);
-    csv_ += row + Quoted(Reason(r)) + ',' +
+    csv_ += row + io::CsvQuoted(Reason(r)) + ',' +
             (result.prior_first_scan ? "first scan" : mapping::ToString(result.prior_used)) + ',' +
-            Quoted(result.prior_substitution) + ',' + std::to_string(r.local_map_points) + ',';
+            io::CsvQuoted(result.prior_substitution) + ',' + std::to_string(r.local_map_points) +
+            ',';
     // The online yaw lever after this scan (empty when the calibration is off).
     const odometry::YawCalibrationStep &yaw = result.yaw_calibration;
     if (yaw.status != odometry::YawCalibrationStatus::kDisabled) {
@@ -121,24 +117,24 @@ nlohmann::json MapOutputs::Summary() const {
         if (std::string(name) != "total") stages[name] = TimeStatistics(values);
     }
     const auto total = stage_ms_.find("total");
-    return {{"fallbacks", fallbacks_},
-            {"fallback_rate", scans_ > 0 ? static_cast<double>(fallbacks_) / scans_ : 0.0},
-            {"fallback_reasons", fallback_reasons_},
-            {"fallback_reasons_first_5s", young_map_fallback_reasons_},
-            {"fallbacks_per_5s", fallbacks_by_time_},
-            {"prior_substitutions_constvel", prior_substitutions_},
-            {"scans_without_mask", unmasked_},
-            {"time_per_scan_ms",
-             TimeStatistics(total == stage_ms_.end() ? std::vector<double>{} : total->second)},
-            {"time_per_stage_ms", stages},
-            {"online_calibration",
-             yaw_calibration_counts_.empty()
-                 ? nlohmann::json()
-                 : nlohmann::json{{"s_x_m", yaw_calibration_.s_x_m},
-                                  {"sigma_s_x_m", yaw_calibration_.sigma_s_x_m},
-                                  {"scans_by_status", yaw_calibration_counts_}}},
-            {"map_points", map_points_world_.size()},
-            {"local_map_points_max", max_local_map_points_}};
+    return {
+        {"fallbacks", fallbacks_},
+        {"fallback_rate", scans_ > 0 ? static_cast<double>(fallbacks_) / scans_ : 0.0},
+        {"fallback_reasons", fallback_reasons_},
+        {"fallback_reasons_first_5s", young_map_fallback_reasons_},
+        {"fallbacks_per_5s", fallbacks_by_time_},
+        {"prior_substitutions_constvel", prior_substitutions_},
+        {"scans_without_mask", unmasked_},
+        {"time_per_scan_ms",
+         TimeStatistics(total == stage_ms_.end() ? std::vector<double>{} : total->second)},
+        {"time_per_stage_ms", stages},
+        {"online_calibration", yaw_calibration_counts_.empty()
+                                   ? nlohmann::json()
+                                   : nlohmann::json{{"s_x_m", yaw_calibration_.s_x_m},
+                                                    {"sigma_s_x_m", yaw_calibration_.sigma_s_x_m},
+                                                    {"scans_by_status", yaw_calibration_counts_}}},
+        {"map_points", map_points_world_.size()},
+        {"local_map_points_max", max_local_map_points_}};
 }
 
 double MapOutputs::mean_time_ms() const {

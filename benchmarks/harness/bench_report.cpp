@@ -13,6 +13,7 @@
 
 #include "dorado/eval/association.hpp"
 #include "dorado/io/atomic_file.hpp"
+#include "dorado/io/csv_text.hpp"
 
 namespace dorado::apps {
 
@@ -74,24 +75,12 @@ std::string Num(double value, int precision) {
     return os.str();
 }
 
-// A text cell of a CSV file (RFC 4180): quoted when it holds a comma, a quote or a line break
-// (a grid variant of two keys is named "a=1,b=2"), its quotes doubled.
-std::string CsvText(const std::string &text) {
-    if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
-    std::string quoted = "\"";
-    for (const char c : text) {
-        if (c == '"') quoted += '"';
-        quoted += c;
-    }
-    return quoted + '"';
-}
-
 void WriteStatisticsRow(std::ostream &os, const std::string &sequence, const std::string &method,
                         const Metric &metric, const std::vector<double> &values) {
     const eval::Statistics s = eval::ComputeStatistics(Finite(values));
-    os << CsvText(sequence) << ',' << CsvText(method) << ',' << metric.name << ',' << metric.unit
-       << std::setprecision(9) << ',' << s.rmse << ',' << s.mean << ',' << s.median << ',' << s.std
-       << ',' << s.min << ',' << s.max << ',' << s.count << '\n';
+    os << io::CsvCell(sequence) << ',' << io::CsvCell(method) << ',' << metric.name << ','
+       << metric.unit << std::setprecision(9) << ',' << s.rmse << ',' << s.mean << ',' << s.median
+       << ',' << s.std << ',' << s.min << ',' << s.max << ',' << s.count << '\n';
 }
 
 // Runs grouped by method, in first-seen order (the rows of a table).
@@ -206,9 +195,10 @@ void WriteRunsCsv(std::ostream &os, const std::vector<RunEvaluation> &evaluation
     for (const RunEvaluation &e : evaluations) {
         std::string note = e.note;
         std::replace(note.begin(), note.end(), '\n', ' ');
-        os << CsvText(e.sequence) << ',' << CsvText(e.method) << ',' << CsvText(e.run_dir) << ','
-           << CsvText(e.ground_truth) << ',' << (e.ok ? 1 : 0) << ',' << e.poses << ','
-           << e.matched << ',' << e.scored << ',' << CsvText(note) << '\n';
+        os << io::CsvCell(e.sequence) << ',' << io::CsvCell(e.method) << ','
+           << io::CsvCell(e.run_dir) << ',' << io::CsvCell(e.ground_truth) << ',' << (e.ok ? 1 : 0)
+           << ',' << e.poses << ',' << e.matched << ',' << e.scored << ',' << io::CsvCell(note)
+           << '\n';
     }
 }
 
@@ -220,9 +210,8 @@ void WriteRpePairsCsv(std::ostream &os, const std::vector<RunEvaluation> &evalua
     for (const RunEvaluation &e : evaluations) {
         const auto write = [&](const eval::RelativeErrors &rpe, const char *unit) {
             for (std::size_t p = 0; p < rpe.pairs.size(); ++p) {
-                os << CsvText(e.sequence) << ',' << CsvText(e.method) << ',' << unit << ','
-                   << std::fixed
-                   << std::setprecision(6) << rpe.stamp_i_ns[p] * 1e-9 << ','
+                os << io::CsvCell(e.sequence) << ',' << io::CsvCell(e.method) << ',' << unit << ','
+                   << std::fixed << std::setprecision(6) << rpe.stamp_i_ns[p] * 1e-9 << ','
                    << rpe.stamp_j_ns[p] * 1e-9 << std::defaultfloat << std::setprecision(9) << ','
                    << (e.has_translation ? rpe.translation_m[p] : std::nan("")) << ','
                    << rpe.rotation_deg[p] << ',' << rpe.roll_deg[p] << ',' << rpe.pitch_deg[p]
