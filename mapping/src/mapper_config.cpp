@@ -94,28 +94,15 @@ const char *ToString(Refinement refinement) {
 }
 
 Refinement ParseRefinement(const std::string &name) {
-    std::string names;
-    for (const auto &[text, r] : RefinementChoices()) {
-        if (name == text) return r;
-        names += (names.empty() ? "" : ", ") + std::string(text);
-    }
-    throw std::invalid_argument("unknown refinement '" + name + "' (" + names + ")");
+    return ParseChoice(RefinementChoices(), name, "refinement");
 }
 
 RegistrationMethod ParseRegistrationMethod(const std::string &name) {
-    for (auto m : {RegistrationMethod::kPointToPoint, RegistrationMethod::kPointToPlane,
-                   RegistrationMethod::kGicp})
-        if (name == ToString(m)) return m;
-    throw std::invalid_argument("unknown registration method '" + name +
-                                "' (point_to_point, point_to_plane, gicp)");
+    return ParseChoice(RegistrationMethodChoices(), name, "registration method");
 }
 
 RobustKernel ParseRobustKernel(const std::string &name) {
-    for (auto k :
-         {RobustKernel::kNone, RobustKernel::kHuber, RobustKernel::kCauchy, RobustKernel::kTukey})
-        if (name == ToString(k)) return k;
-    throw std::invalid_argument("unknown robust kernel '" + name +
-                                "' (none, huber, cauchy, tukey)");
+    return ParseChoice(RobustKernelChoices(), name, "robust kernel");
 }
 
 const char *ToString(RegistrationCovarianceModel model) {
@@ -131,12 +118,7 @@ const char *ToString(RegistrationCovarianceModel model) {
 }
 
 RegistrationCovarianceModel ParseRegistrationCovarianceModel(const std::string &name) {
-    for (auto m :
-         {RegistrationCovarianceModel::kIndependent, RegistrationCovarianceModel::kResidualScale,
-          RegistrationCovarianceModel::kClustered})
-        if (name == ToString(m)) return m;
-    throw std::invalid_argument("unknown registration covariance '" + name +
-                                "' (independent, residual_scale, clustered)");
+    return ParseChoice(RegistrationCovarianceChoices(), name, "registration covariance");
 }
 
 }  // namespace dorado::mapping

@@ -12,6 +12,7 @@
 /// `key` is dotted relative to the struct ("map.voxel_size_m"); a struct that holds another
 /// struct's fields under a section passes Prefixed{"section.", v} to that struct's VisitFields.
 
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -21,6 +22,19 @@ namespace dorado {
 /// The one spelling of each value of a config enum, in the order the docs list them.
 template <typename E>
 using Choices = std::vector<std::pair<const char *, E>>;
+
+/// The enum value spelled @p text; throws std::invalid_argument "unknown <what> '<text>' (a, b, c)"
+/// listing the choices.
+template <typename E>
+[[nodiscard]] E ParseChoice(const Choices<E> &choices, const std::string &text,
+                            const std::string &what) {
+    std::string names;
+    for (const auto &[name, value] : choices) {
+        if (text == name) return value;
+        names += (names.empty() ? "" : ", ") + std::string(name);
+    }
+    throw std::invalid_argument("unknown " + what + " '" + text + "' (" + names + ")");
+}
 
 /// A visitor that forwards to another with "prefix" prepended to every key.
 template <typename Visitor>
