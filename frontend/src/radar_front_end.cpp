@@ -103,12 +103,22 @@ struct RadarFrontEnd::State {
     double last_dt_s = 0.0;
     bool has_last = false;
     int64_t last_stamp_ns = 0;
+    // The previous scan's Doppler twist, when it was a measurement (the trapezoid prior).
+    std::optional<mapping::BaseTwist> last_twist;
 
     // Hands the registered pose's yaw to the calibrator; its new estimate drives the next scans.
     void CalibrateYawLever(FrontEndResult &result);
 
     mapping::MotionPrior BuildPrior(const odometry::OdometryStep &step, int64_t stamp_ns,
                                     double dt_s, FrontEndResult &result) const;
+    // The twist the doppler priors hold over the interval (prior.doppler_integration).
+    mapping::BaseTwist IntervalTwist(const odometry::OdometryStep &step) const {
+        const mapping::BaseTwist twist = PriorTwist(step);
+        if (config.prior_noise.doppler_integration != mapping::TwistIntegration::kTrapezoid ||
+            !last_twist)
+            return twist;
+        return mapping::TrapezoidTwist(*last_twist, twist);
+    }
 };
 
 mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometryStep &step,
@@ -163,9 +173,9 @@ mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometrySt
             } else if (step.fallback_cause == odometry::FallbackCause::kNoImuSamples) {
                 why_not = "no imu samples";
             } else if (kind == PriorKind::kDoppler) {
-                built = mapping::PriorFromDoppler(T_prev, PriorTwist(step), dt_s, noise);
+                built = mapping::PriorFromDoppler(T_prev, IntervalTwist(step), dt_s, noise);
             } else {
-                built = mapping::PriorFromImuAndDoppler(T_prev, PriorTwist(step), imu_samples,
+                built = mapping::PriorFromImuAndDoppler(T_prev, IntervalTwist(step), imu_samples,
                                                         last_stamp_ns + 1, stamp_ns,
                                                         extrinsics.T_base_imu, dt_s, noise);
                 if (!built) why_not = "no imu samples";
@@ -307,6 +317,10 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
     s.T_prev2 = s.T_prev;
     s.T_prev = result.T_world_base;
     s.last_dt_s = s.scans_since_reset == 0 ? 0.0 : step.dt_s;
+    if (step.fallback_cause == odometry::FallbackCause::kNone)
+        s.last_twist = PriorTwist(step);
+    else
+        s.last_twist.reset();
     ++s.scans_since_reset;
     s.has_last = true;
     s.last_stamp_ns = scan_radar.stamp_ns;
@@ -326,6 +340,7 @@ void RadarFrontEnd::Reset(const Eigen::Isometry3d &T_world_base) {
     s.scans_since_reset = 0;
     s.last_dt_s = 0.0;
     s.has_last = false;
+    s.last_twist.reset();
     // The trajectory keeps its poses: stamps stay increasing across a reset.
 }
 

@@ -32,6 +32,23 @@ PriorKind ParsePriorKind(const std::string &name) {
                                 "' is not one of: none, constvel, imu, doppler, imu+doppler");
 }
 
+const char *ToString(TwistIntegration integration) {
+    switch (integration) {
+        case TwistIntegration::kEndpoint:
+            return "endpoint";
+        case TwistIntegration::kTrapezoid:
+            return "trapezoid";
+    }
+    return "?";
+}
+
+BaseTwist TrapezoidTwist(const BaseTwist &at_start, const BaseTwist &at_end) {
+    return {0.5 * (at_start.v_base_mps + at_end.v_base_mps),
+            0.5 * (at_start.omega_base_radps + at_end.omega_base_radps),
+            0.25 * (at_start.cov_v_base + at_end.cov_v_base),
+            0.25 * (at_start.cov_omega_base + at_end.cov_omega_base)};
+}
+
 namespace {
 
 Matrix6d BlockDiagonal(const Eigen::Matrix3d &cov_translation,

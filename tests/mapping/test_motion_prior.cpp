@@ -50,6 +50,31 @@ TEST(MotionPrior, DopplerIsAConstantTwistWithCovarianceScaledByDtSquaredAndRollF
     EXPECT_GT(prior.covariance.ldlt().vectorD().minCoeff(), 0.0);
 }
 
+TEST(MotionPrior, TrapezoidTwistIntegratesAConstantAccelerationExactly) {
+    // Straight line, a = 3 m/s^2 from 10 m/s over 0.1 s: the true displacement is
+    // v0 dt + a dt^2 / 2 = 1.015 m. The end twist alone says v1 dt = 1.03 m (a dt^2 / 2 too far).
+    const double v0 = 10.0, a = 3.0, dt = 0.1;
+    BaseTwist start, end;
+    start.v_base_mps = {v0, 0.0, 0.0};
+    end.v_base_mps = {v0 + a * dt, 0.0, 0.0};
+    start.cov_v_base = Eigen::Vector3d(4e-4, 1e-4, 1e-4).asDiagonal();
+    end.cov_v_base = Eigen::Vector3d(2e-4, 3e-4, 1e-4).asDiagonal();
+    start.cov_omega_base = 1e-6 * Eigen::Matrix3d::Identity();
+    end.cov_omega_base = 3e-6 * Eigen::Matrix3d::Identity();
+    const double truth = v0 * dt + 0.5 * a * dt * dt;
+    const PriorNoiseConfig noise;
+    const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+    EXPECT_NEAR(PriorFromDoppler(I, end, dt, noise).T_world_base.translation().x() - truth,
+                0.5 * a * dt * dt, 1e-12);
+    const BaseTwist mean = TrapezoidTwist(start, end);
+    EXPECT_NEAR(PriorFromDoppler(I, mean, dt, noise).T_world_base.translation().x(), truth, 1e-12);
+    // Two independent estimates: (C_start + C_end) / 4.
+    EXPECT_NEAR(mean.cov_v_base(0, 0), 1.5e-4, 1e-18);
+    EXPECT_NEAR(mean.cov_v_base(1, 1), 1e-4, 1e-18);
+    EXPECT_NEAR(mean.cov_omega_base(2, 2), 1e-6, 1e-18);
+    EXPECT_STREQ(ToString(noise.doppler_integration), "trapezoid");  // the default
+}
+
 TEST(MotionPrior, ImuIntegratesConstantAccelerationAndRotationExactly) {
     // IMU rotated 90 deg about Z in the base frame, level vehicle accelerating forward at 2 m/s^2
     // while yawing at 0.5 rad/s... kept separate: first pure acceleration.

@@ -33,6 +33,11 @@ inline Choices<RegistrationCovarianceModel> RegistrationCovarianceChoices() {
             {ToString(M::kClustered), M::kClustered}};
 }
 
+inline Choices<TwistIntegration> TwistIntegrationChoices() {
+    return {{ToString(TwistIntegration::kTrapezoid), TwistIntegration::kTrapezoid},
+            {ToString(TwistIntegration::kEndpoint), TwistIntegration::kEndpoint}};
+}
+
 template <typename Visitor>
 void VisitFields(LocalMapConfig &c, Visitor &&v) {
     v("voxel_size_m", c.voxel_size_m, "map resolution and the cell of its search hash [m]");
@@ -134,6 +139,9 @@ void VisitFields(PriorNoiseConfig &c, Visitor &&v) {
       "`doppler`: floor on the velocity sigma [m/s]");
     v("doppler_min_sigma_omega_radps", c.doppler_min_sigma_omega_radps,
       "`doppler`: floor on the angular-rate sigma, per axis [rad/s]");
+    v("doppler_integration", c.doppler_integration, TwistIntegrationChoices(),
+      "`doppler`, `imu+doppler`: the interval's twist from the two scans' (trapezoid) or "
+      "this scan's (endpoint)");
 }
 
 }  // namespace dorado::mapping

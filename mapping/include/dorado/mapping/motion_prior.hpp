@@ -62,6 +62,19 @@ struct BaseTwist {
     Eigen::Matrix3d cov_omega_base = Eigen::Matrix3d::Identity();
 };
 
+/// How the `doppler` and `imu+doppler` priors turn the scans' twists into the interval's motion:
+/// - kEndpoint: this scan's twist held over the interval (the paper's and `dorado odometry`'s
+///   dead reckoning): errs by about a dt^2 / 2 under an acceleration a;
+/// - kTrapezoid: the mean of the previous scan's and this scan's twists (TrapezoidTwist), the
+///   interval's mean velocity to second order, from two independent estimates.
+enum class TwistIntegration { kEndpoint, kTrapezoid };
+/// "endpoint" | "trapezoid".
+[[nodiscard]] const char *ToString(TwistIntegration integration);
+
+/// The mean twist of an interval by the trapezoid rule: (start + end) / 2, covariance
+/// (C_start + C_end) / 4 (the two scans' Doppler estimates are independent).
+[[nodiscard]] BaseTwist TrapezoidTwist(const BaseTwist &at_start, const BaseTwist &at_end);
+
 /// Noise levels of the priors. Defaults are for a car-like vehicle at 10-20 Hz; see
 /// configs/mapper.yaml.
 struct PriorNoiseConfig {
@@ -82,6 +95,9 @@ struct PriorNoiseConfig {
     /// slip, bounce) comes with the twist (odometry::VehicleMotion::cov_model), not from here.
     double doppler_min_sigma_v_mps = 0.02;
     Eigen::Vector3d doppler_min_sigma_omega_radps = Eigen::Vector3d(0.005, 0.005, 0.005);
+    /// `doppler`, `imu+doppler`: the interval's twist (TwistIntegration). The floors above are
+    /// added after it (an unmodelled bias does not average out between two scans).
+    TwistIntegration doppler_integration = TwistIntegration::kTrapezoid;
 
     /// Throws std::invalid_argument naming the first bad key.
     void Validate() const;
