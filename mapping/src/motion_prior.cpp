@@ -45,8 +45,8 @@ const char *ToString(TwistIntegration integration) {
 BaseTwist TrapezoidTwist(const BaseTwist &at_start, const BaseTwist &at_end) {
     return {0.5 * (at_start.v_base_mps + at_end.v_base_mps),
             0.5 * (at_start.omega_base_radps + at_end.omega_base_radps),
-            0.25 * (at_start.cov_v_base + at_end.cov_v_base),
-            0.25 * (at_start.cov_omega_base + at_end.cov_omega_base)};
+            0.5 * (at_start.cov_v_base + at_end.cov_v_base),
+            0.5 * (at_start.cov_omega_base + at_end.cov_omega_base)};
 }
 
 namespace {

@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
 # The covariance that dorado map writes (covariance.csv) against the simulator's exact trajectory, on
 # two recordings of seq08 (mixed route, fast turns; seeds 8 and 108): the fused pose's 1-frame mean NEES of each
-# 3-dof block must lie in the chi-square mean 3 within a factor 2 (model error, correlated samples): rotation
-# [1.5, 6]; translation [1.2, 6], because the translation is the Doppler prior's, whose covariance has been
-# over-conservative by ~2x since the direction-noise compensation (EIV) became the default (measured 1.87 and
-# 1.46 with it, 2.09 and 1.69 without: docs/covariance.md). Mutations, each of which must fail on EACH sequence:
+# 3-dof block must lie in the chi-square mean 3 within a factor 2 (model error, correlated samples) for the
+# rotation, [1.5, 6]; the translation's band is [0.6, 6], because the translation is the Doppler prior's, whose
+# covariance is knowingly conservative per frame by two factors of ~2: the direction-noise compensation (EIV, the
+# default since issue 31: 1.87 / 1.46 with it, 2.09 / 1.69 without) and the trapezoid twist (issue 30: an
+# interval's covariance is its share of a sum over many intervals, (C_prev + C) / 2, twice the one frame's,
+# because consecutive intervals share a scan; 0.94 / 0.80 with it). docs/covariance.md.
+# Mutations, each of which must fail on EACH sequence:
 #   --fused-covariance prior         the mapper reports the prior's covariance for its fused pose (it
 #                                    ignores the registration): fails in rotation, which the map tightens;
 #   --fused-covariance registration  it reports the registration's covariance alone (it ignores the
@@ -17,15 +20,15 @@ set -euo pipefail
 DORADO=$1 NEES=$2
 dir=$(mktemp -d /tmp/dorado_cov_XXXXXX)
 trap 'rm -rf "$dir"' EXIT
-# (Only seq08-like drives pass today: on the slow sequences the translation block is over-conservative,
-# NEES 0.4-1.0, the prior's; on the fast car_urban / fast_flat_open over-confident, ~20: docs/covariance.md.)
+# (On the slow sequences the translation block is over-conservative, NEES 0.2-0.5: the prior's velocity floor;
+# on car_urban / fast_flat_open it is 3.0 with the trapezoid twist, ~20 without: docs/covariance.md.)
 for spec in seq08:8 seq08:108; do
   seq=${spec%%:*} seed=${spec##*:}
   "$DORADO" simulate --sequence "$seq" --duration 20 --seed "$seed" --out "$dir/sim_$seq$seed" 2>/dev/null
   "$DORADO" map "$dir/sim_$seq$seed/dataset.yaml" --prior doppler --out "$dir/map_$seq$seed" \
     2>/dev/null
   run=(/usr/bin/python3 "$NEES" --truth "$dir/sim_$seq$seed/true_trajectory.tum" --run "$dir/map_$seq$seed"
-       --name "${seq}_s${seed}_20s" --check-block-nees 1.2 6 1.5 6)
+       --name "${seq}_s${seed}_20s" --check-block-nees 0.6 6 1.5 6)
   "${run[@]}"
   for mutation in "--fused-covariance prior" "--fused-covariance registration" \
                   "--scale-covariance 4" "--scale-covariance 0.25"; do

@@ -68,10 +68,10 @@ TEST(MotionPrior, TrapezoidTwistIntegratesAConstantAccelerationExactly) {
                 0.5 * a * dt * dt, 1e-12);
     const BaseTwist mean = TrapezoidTwist(start, end);
     EXPECT_NEAR(PriorFromDoppler(I, mean, dt, noise).T_world_base.translation().x(), truth, 1e-12);
-    // Two independent estimates: (C_start + C_end) / 4.
-    EXPECT_NEAR(mean.cov_v_base(0, 0), 1.5e-4, 1e-18);
-    EXPECT_NEAR(mean.cov_v_base(1, 1), 1e-4, 1e-18);
-    EXPECT_NEAR(mean.cov_omega_base(2, 2), 1e-6, 1e-18);
+    // (C_start + C_end) / 2: consecutive intervals share a scan (the sum over n intervals).
+    EXPECT_NEAR(mean.cov_v_base(0, 0), 3e-4, 1e-18);
+    EXPECT_NEAR(mean.cov_v_base(1, 1), 2e-4, 1e-18);
+    EXPECT_NEAR(mean.cov_omega_base(2, 2), 2e-6, 1e-18);
     EXPECT_STREQ(ToString(noise.doppler_integration), "trapezoid");  // the default
 }
 

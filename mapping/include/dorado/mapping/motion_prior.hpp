@@ -66,13 +66,16 @@ struct BaseTwist {
 /// - kEndpoint: this scan's twist held over the interval (the paper's and `dorado odometry`'s
 ///   dead reckoning): errs by about a dt^2 / 2 under an acceleration a;
 /// - kTrapezoid: the mean of the previous scan's and this scan's twists (TrapezoidTwist), the
-///   interval's mean velocity to second order, from two independent estimates.
+///   interval's mean velocity to second order.
 enum class TwistIntegration { kEndpoint, kTrapezoid };
 /// "endpoint" | "trapezoid".
 [[nodiscard]] const char *ToString(TwistIntegration integration);
 
 /// The mean twist of an interval by the trapezoid rule: (start + end) / 2, covariance
-/// (C_start + C_end) / 4 (the two scans' Doppler estimates are independent).
+/// (C_start + C_end) / 2. Not / 4, although the two scans' estimates are independent: consecutive
+/// intervals share a scan, so their errors are correlated and n intervals sum to about n times
+/// this covariance, as with the end's twist alone (the fusion's gain depends on that sum; with
+/// / 4 the map's rotation drift per second grew 16 %, benchmark_prior_integration.yaml).
 [[nodiscard]] BaseTwist TrapezoidTwist(const BaseTwist &at_start, const BaseTwist &at_end);
 
 /// Noise levels of the priors. Defaults are for a car-like vehicle at 10-20 Hz; see
