@@ -101,9 +101,10 @@ struct RadarMapper::State {
     LocalMap map;
     AdaptiveThreshold threshold;
     bool has_pose = false;
-    /// Two chains of poses (refinement ceres): the output (the prior's chain, pulled toward the map
-    /// by the registration's honest weight) and the map's (the registered poses, locked to the map
-    /// by the registration's residuals, which the map is built from). One chain otherwise.
+    /// Two chains of poses (refinement ceres, and filter without filter_builds_map): the output
+    /// (the prior's chain, pulled toward the map by the registration's honest weight) and the
+    /// map's (the registered poses, locked to the map by the registration's residuals, which the
+    /// map is built from). One chain otherwise.
     Eigen::Isometry3d T_world_base_last = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d T_map_base_last = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d T_world_base_last_keyframe = Eigen::Isometry3d::Identity();
@@ -483,8 +484,10 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
                 CovarianceFromInformation(CovarianceFromInformation(prior.covariance) +
                                           CovarianceFromInformation(result.registered.covariance));
     }
-    if (config.refinement != Refinement::kCeres && !filter)
-        T_map = result.T_world_base;  // one chain
+    const bool one_chain = config.refinement == Refinement::kNone ||
+                           config.refinement == Refinement::kWindow ||
+                           (filter && config.filter_builds_map);
+    if (one_chain) T_map = result.T_world_base;
     if (filter) {
         s.filter_covariance = result.first_scan ? Matrix6d::Zero() : filter_covariance;
         result.filter_covariance = s.filter_covariance;

@@ -105,6 +105,8 @@ void VisitFields(MapperConfig &c, Visitor &&v) {
       "degeneracy-aware registration: weak eigenvalue fraction (0: off)");
     v("doppler_in_registration", c.doppler_in_registration,
       "doppler priors: Doppler residuals join the registered pose's step too");
+    v("filter_builds_map", c.filter_builds_map,
+      "refinement filter: the map from the filter's poses (one chain)");
     VisitFields(c.window, Prefixed{"window.", v});
     v("min_correspondences", c.min_correspondences, "fewer matches: fall back to the prior");
     v("max_rms_m", c.max_rms_m, "a larger correspondence RMS: fall back to the prior [m]");

@@ -21,11 +21,12 @@ namespace dorado::mapping {
 
 enum class RegistrationMethod { kPointToPoint, kPointToPlane, kGicp };
 /// kCeres: the new pose alone (registration + Doppler + prior); kWindow: the fixed-lag smoother
-/// over the last window.size scans (window_smoother.hpp); kFilter: one chain, an error-state
-/// filter whose state (the pose relative to the map) carries its own covariance P: the prior's
-/// motion propagates it (P^- = Ad P Ad^T + C_prior), the scan-to-map registration (alone, by
-/// registration_covariance, zero information along its weak directions) updates it by
-/// information, the map is built from the filter's pose (docs/covariance.md).
+/// over the last window.size scans (window_smoother.hpp); kFilter: kCeres's registered pose, and
+/// the output an error-state filter whose state (the pose relative to the map) carries its own
+/// covariance P: the prior's motion propagates it (P^- = Ad P Ad^T + C_prior), the registered pose
+/// (by registration_covariance, zero information along its weak directions) updates it by
+/// information. The map is built from the registered poses, or with filter_builds_map from the
+/// filter's (one chain; docs/covariance.md).
 enum class Refinement { kNone, kCeres, kWindow, kFilter };
 /// How the registration's information about the pose is counted when it is fused with the prior
 /// (configs/mapper.yaml, registration_covariance):
@@ -106,6 +107,10 @@ struct MapperConfig {
     /// residuals join the registered pose's step anyway (counted a second time there; issue 30's
     /// A/B). The output's step never counts them twice.
     bool doppler_in_registration = false;
+    /// refinement filter: build the map from the filter's poses, so that the map, the output and
+    /// its covariance are one chain (one estimator), instead of from the registered poses (two
+    /// chains). Ignored by the other refinements (ceres: two chains; none, window: one).
+    bool filter_builds_map = false;
     double min_observability = 0.004;
 
     /// Throws std::invalid_argument naming the first bad key.
@@ -192,7 +197,8 @@ struct RegistrationResult {
     bool ground_used = false;
     bool map_updated = false;
     /// The points this scan added to the mapper's map, world frame, placed at the pose the map is
-    /// built from (the registered pose with refinement ceres, the output with none and window):
+    /// built from (the registered pose with refinement ceres and filter, the output with none,
+    /// window and filter + filter_builds_map):
     /// the union over a run is the map as it was (map.pcd), cropping aside.
     Eigen::Matrix3Xd map_points_added_world;
     std::size_t local_map_points = 0;  ///< after this scan's update (bounded by the crop radius)
