@@ -111,11 +111,14 @@ struct RadarFrontEnd::State {
 
     mapping::MotionPrior BuildPrior(const odometry::OdometryStep &step, int64_t stamp_ns,
                                     double dt_s, FrontEndResult &result) const;
-    // The twist the doppler priors hold over the interval (prior.doppler_integration).
+    // The twist the doppler priors hold over the interval (prior.doppler_integration). The
+    // trapezoid needs the previous scan's twist at the interval's start, at the usual cadence:
+    // after a gap (a dropped scan or more: an interval over 1.5 times the previous one) that twist
+    // is stale and the scan's own is held, as the odometry does.
     mapping::BaseTwist IntervalTwist(const odometry::OdometryStep &step) const {
         const mapping::BaseTwist twist = PriorTwist(step);
         if (config.prior_noise.doppler_integration != mapping::TwistIntegration::kTrapezoid ||
-            !last_twist)
+            !last_twist || !(last_dt_s > 0.0 && step.dt_s <= 1.5 * last_dt_s))
             return twist;
         return mapping::TrapezoidTwist(*last_twist, twist);
     }

@@ -76,6 +76,8 @@ TEST(RadarFrontEnd, DopplerPriorFollowsTheAngularRatePriorSetting) {
     for (const bool angular_rate_prior : {false, true}) {
         FrontEndConfig config;
         config.odometry.angular_rate_prior = angular_rate_prior;
+        // This scan's twist alone (the trapezoid's is checked below).
+        config.prior_noise.doppler_integration = mapping::TwistIntegration::kEndpoint;
         const auto results = RunFrontEnd(config, scans);
         for (std::size_t k = 1; k < results.size(); ++k) {
             const FrontEndResult &r = results[k];
@@ -107,6 +109,41 @@ TEST(RadarFrontEnd, DopplerPriorFollowsTheAngularRatePriorSetting) {
     EXPECT_GT(largest_difference, 1e-6) << "the setting changed nothing: the test cannot tell";
 }
 
+// The default trapezoid twist: the mean of the previous and this scan's twists (the odometry's,
+// read back from the results) held over the interval; the second scan, without a previous
+// interval, and a scan after a gap hold their own.
+TEST(RadarFrontEnd, DopplerPriorHoldsTheMeanOfTheTwoScansTwists) {
+    auto scans = DriveScans(8);
+    for (std::size_t k = 6; k < scans.size(); ++k) scans[k].stamp_ns += 300000000;  // 0.3 s gap
+    const FrontEndConfig config;
+    ASSERT_EQ(config.prior_noise.doppler_integration, mapping::TwistIntegration::kTrapezoid);
+    const auto results = RunFrontEnd(config, scans);
+    for (std::size_t k = 1; k < results.size(); ++k) {
+        const FrontEndResult &r = results[k];
+        ASSERT_EQ(r.prior_used, PriorKind::kDoppler) << r.prior_substitution;
+        const bool own = k == 1 || k == 6;  // no previous interval; after the gap
+        const FrontEndResult &previous = results[k - 1];
+        const Eigen::Vector3d v = own ? r.twist_base.v_base_mps
+                                      : Eigen::Vector3d(0.5 * (previous.twist_base.v_base_mps +
+                                                               r.twist_base.v_base_mps));
+        const Eigen::Vector3d w =
+            own ? r.twist_base.omega_base_radps
+                : Eigen::Vector3d(0.5 * (previous.twist_base.omega_base_radps +
+                                         r.twist_base.omega_base_radps));
+        Vector6d xi;
+        xi << v * r.dt_s, w * r.dt_s;
+        const Eigen::Isometry3d expected = previous.T_world_base * ExpSE3(xi);
+        EXPECT_LT(TranslationGap(r.prior.T_world_base, expected), 1e-9) << k;
+        EXPECT_LT(RotationAngle(r.prior.T_world_base.linear().transpose() * expected.linear()),
+                  1e-9)
+            << k;
+        if (!own)  // the two scans' twists differ: the test can tell the rules apart
+            EXPECT_GT((previous.twist_base.omega_base_radps - r.twist_base.omega_base_radps).norm(),
+                      1e-6)
+                << k;
+    }
+}
+
 TEST(RadarFrontEnd, DopplerPriorObeysTheAngularRateLimit) {
     const auto scans = DriveScans(8);
     FrontEndConfig config;
@@ -131,6 +168,7 @@ TEST(RadarFrontEnd, DopplerPriorHoldsStillOnStationaryScans) {
     for (const bool zero_velocity_update : {true, false}) {
         FrontEndConfig config;
         config.odometry.zero_velocity_update = zero_velocity_update;
+        config.prior_noise.doppler_integration = mapping::TwistIntegration::kEndpoint;
         const auto results = RunFrontEnd(config, scans);
         for (std::size_t k = 1; k < results.size(); ++k) {
             const FrontEndResult &r = results[k];

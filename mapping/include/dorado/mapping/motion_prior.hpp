@@ -66,7 +66,8 @@ struct BaseTwist {
 /// - kEndpoint: this scan's twist held over the interval (the paper's and `dorado odometry`'s
 ///   dead reckoning): errs by about a dt^2 / 2 under an acceleration a;
 /// - kTrapezoid: the mean of the previous scan's and this scan's twists (TrapezoidTwist), the
-///   interval's mean velocity to second order.
+///   interval's mean velocity to second order. After a gap (an interval over 1.5 times the
+///   previous one) the front end holds the scan's own twist: the previous one is stale.
 enum class TwistIntegration { kEndpoint, kTrapezoid };
 /// "endpoint" | "trapezoid".
 [[nodiscard]] const char *ToString(TwistIntegration integration);
