@@ -123,13 +123,13 @@ TEST(RadarFrontEnd, DopplerPriorHoldsTheMeanOfTheTwoScansTwists) {
         ASSERT_EQ(r.prior_used, PriorKind::kDoppler) << r.prior_substitution;
         const bool own = k == 1 || k == 6;  // no previous interval; after the gap
         const FrontEndResult &previous = results[k - 1];
-        const Eigen::Vector3d v = own ? r.twist_base.v_base_mps
-                                      : Eigen::Vector3d(0.5 * (previous.twist_base.v_base_mps +
-                                                               r.twist_base.v_base_mps));
+        const Eigen::Vector3d v =
+            own ? r.twist_base.v_base_mps
+                : Eigen::Vector3d(0.5 * (previous.twist_base.v_base_mps + r.twist_base.v_base_mps));
         const Eigen::Vector3d w =
             own ? r.twist_base.omega_base_radps
-                : Eigen::Vector3d(0.5 * (previous.twist_base.omega_base_radps +
-                                         r.twist_base.omega_base_radps));
+                : Eigen::Vector3d(
+                      0.5 * (previous.twist_base.omega_base_radps + r.twist_base.omega_base_radps));
         Vector6d xi;
         xi << v * r.dt_s, w * r.dt_s;
         const Eigen::Isometry3d expected = previous.T_world_base * ExpSE3(xi);

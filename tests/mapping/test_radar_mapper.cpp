@@ -229,12 +229,12 @@ TEST(RadarMapper, FilterBuildsTheMapFromItsOwnPoses) {
     const DriveResult one = Drive(40, true, config);
     config.filter_builds_map = false;
     const DriveResult two = Drive(40, true, config);
-    std::printf("one chain: RPE per frame %.4f m, %.4f deg, last pose %.4f m, map offset %.2e m; "
-                "two chains: %.4f m, %.4f deg, %.4f m, map offset %.2e m\n",
-                one.mean_rpe_translation_m, one.mean_rpe_rotation_rad * 180.0 / M_PI,
-                one.final_error_m, one.map_offset_from_output_m, two.mean_rpe_translation_m,
-                two.mean_rpe_rotation_rad * 180.0 / M_PI, two.final_error_m,
-                two.map_offset_from_output_m);
+    std::printf(
+        "one chain: RPE per frame %.4f m, %.4f deg, last pose %.4f m, map offset %.2e m; "
+        "two chains: %.4f m, %.4f deg, %.4f m, map offset %.2e m\n",
+        one.mean_rpe_translation_m, one.mean_rpe_rotation_rad * 180.0 / M_PI, one.final_error_m,
+        one.map_offset_from_output_m, two.mean_rpe_translation_m,
+        two.mean_rpe_rotation_rad * 180.0 / M_PI, two.final_error_m, two.map_offset_from_output_m);
     EXPECT_LT(one.map_offset_from_output_m, 1e-6);
     EXPECT_GT(two.map_offset_from_output_m, 1e-4);
     EXPECT_LT(one.mean_rpe_translation_m, 0.01);
