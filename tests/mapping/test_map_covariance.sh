@@ -6,7 +6,7 @@
 # covariance is knowingly conservative per frame by two factors of ~2: the direction-noise compensation (EIV, the
 # default since issue 31: 1.87 / 1.46 with it, 2.09 / 1.69 without) and the trapezoid twist (issue 30: an
 # interval's covariance is its share of a sum over many intervals, (C_prev + C) / 2, twice the one frame's,
-# because consecutive intervals share a scan; 0.94 / 0.80 with it). docs/covariance.md.
+# because consecutive intervals share a scan; 0.94 / 0.79 with it). docs/covariance.md.
 # Mutations, each of which must fail on EACH sequence:
 #   --fused-covariance prior         the mapper reports the prior's covariance for its fused pose (it
 #                                    ignores the registration): fails in rotation, which the map tightens;
