@@ -175,10 +175,10 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
     out.usable = true;
     out.T_world_base = pose.Pose();
     // The output's covariance: the inputs' informations summed (first order at the solution).
-    Matrix6d information = CovarianceFromInformation(prior.covariance) +
-                           (out.registered.weak_directions > 0
-                                ? out.registered.information
-                                : CovarianceFromInformation(out.registered.covariance));
+    Matrix6d information =
+        CovarianceFromInformation(prior.covariance) +
+        (out.registered.weak_directions > 0 ? out.registered.information
+                                            : CovarianceFromInformation(out.registered.covariance));
     if (input.doppler != nullptr)
         information +=
             DopplerInformation(out.T_world_base, *input.doppler, input.T_world_base_prev_output,
