@@ -137,10 +137,11 @@ TEST(RadarFrontEnd, DopplerPriorHoldsTheMeanOfTheTwoScansTwists) {
         EXPECT_LT(RotationAngle(r.prior.T_world_base.linear().transpose() * expected.linear()),
                   1e-9)
             << k;
-        if (!own)  // the two scans' twists differ: the test can tell the rules apart
+        if (!own) {  // the two scans' twists differ: the test can tell the rules apart
             EXPECT_GT((previous.twist_base.omega_base_radps - r.twist_base.omega_base_radps).norm(),
                       1e-6)
                 << k;
+        }
     }
 }
 
