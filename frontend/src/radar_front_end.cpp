@@ -287,8 +287,7 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
         // both: the prior's roll/pitch and the residual would count the same plane twice.
         const bool ground_factor = s.config.odometry.ground.enabled && !step.planar &&
                                    !mapping::NeedsImu(s.config.prior) &&
-                                   (s.config.mapper.refinement == mapping::Refinement::kCeres ||
-                                    s.config.mapper.refinement == mapping::Refinement::kFilter);
+                                   mapping::RefinesWithCeres(s.config.mapper.refinement);
         std::optional<mapping::GroundUp> ground_up;
         if (ground_factor && step.ground.fit.valid)
             ground_up = GroundUpFromFit(step.ground.fit, s.odometry.ground_config());

@@ -257,7 +257,7 @@ Refined RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
                                    const Eigen::Isometry3d &T_aligned,
                                    const GroundUp *ground) const {
     const bool filter = config.refinement == Refinement::kFilter;
-    const bool ceres = config.refinement == Refinement::kCeres || filter;  // two chains
+    const bool ceres = RefinesWithCeres(config.refinement);
     Refined out;
     out.T_map = T_aligned;
     out.T_world_base = ceres ? prior.T_world_base : T_aligned;
@@ -484,10 +484,8 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
                 CovarianceFromInformation(CovarianceFromInformation(prior.covariance) +
                                           CovarianceFromInformation(result.registered.covariance));
     }
-    const bool one_chain = config.refinement == Refinement::kNone ||
-                           config.refinement == Refinement::kWindow ||
-                           (filter && config.filter_builds_map);
-    if (one_chain) T_map = result.T_world_base;
+    if (!RefinesWithCeres(config.refinement) || (filter && config.filter_builds_map))
+        T_map = result.T_world_base;  // one chain
     if (filter) {
         s.filter_covariance = result.first_scan ? Matrix6d::Zero() : filter_covariance;
         result.filter_covariance = s.filter_covariance;

@@ -28,6 +28,11 @@ enum class RegistrationMethod { kPointToPoint, kPointToPlane, kGicp };
 /// information. The map is built from the registered poses, or with filter_builds_map from the
 /// filter's (one chain; docs/covariance.md).
 enum class Refinement { kNone, kCeres, kWindow, kFilter };
+/// Whether the refinement registers the pose with Ceres from the prior (ceres and filter): the
+/// registered pose then the output fused from it, the refinements that take the ground residual.
+[[nodiscard]] inline bool RefinesWithCeres(Refinement refinement) {
+    return refinement == Refinement::kCeres || refinement == Refinement::kFilter;
+}
 /// How the registration's information about the pose is counted when it is fused with the prior
 /// (configs/mapper.yaml, registration_covariance):
 ///   kIndependent: every point residual an independent measurement of the per-point noise model
