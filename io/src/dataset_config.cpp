@@ -17,6 +17,56 @@ namespace fs = std::filesystem;
 
 namespace {
 
+const char *ReaderName(ReaderKind reader) {
+    switch (reader) {
+        case ReaderKind::kRosbag:
+            return "rosbag";
+        case ReaderKind::kFolder:
+            return "folder";
+        case ReaderKind::kRadarScenes:
+            return "radarscenes";
+        case ReaderKind::kNuScenes:
+            return "nuscenes";
+    }
+    return "rosbag";
+}
+
+// The top-level sections that only some readers read: each reader's own (rosbag:, folder:,
+// radarscenes:, nuscenes:), and the field map, which only the readers of PointCloud2 messages and
+// scan files use (RadarScenes and nuScenes have their own fixed fields).
+bool ReaderReads(ReaderKind reader, const std::string &section) {
+    if (section == "fields") return reader == ReaderKind::kRosbag || reader == ReaderKind::kFolder;
+    return section == ReaderName(reader);
+}
+
+// Fails, naming the file and the first key, on a key of a section the reader does not read (it
+// would be ignored without a word: fields.doppler_sign with reader radarscenes, a folder: left over
+// from another description), listing every such key. A null value is no value (as YamlSection).
+void RejectKeysTheReaderDoesNotRead(const YAML::Node &root, const YamlSection &top,
+                                    ReaderKind reader) {
+    if (!root.IsMap()) return;
+    std::vector<std::string> unused;
+    for (const std::string section : {"rosbag", "folder", "radarscenes", "nuscenes", "fields"}) {
+        if (ReaderReads(reader, section)) continue;
+        const YAML::Node node = root[section];
+        if (!node.IsDefined() || node.IsNull()) continue;
+        if (!node.IsMap()) {
+            unused.push_back(section);
+            continue;
+        }
+        for (const auto &entry : node) {
+            if (entry.second.IsDefined() && !entry.second.IsNull())
+                unused.push_back(section + "." +
+                                 (entry.first.IsScalar() ? entry.first.Scalar() : "?"));
+        }
+    }
+    if (unused.empty()) return;
+    std::string list;
+    for (const auto &key : unused) list += (list.empty() ? "" : ", ") + key;
+    top.Fail(unused.front(), std::string("is not used by reader: ") + ReaderName(reader) +
+                                 " (remove it; the keys this reader does not use: " + list + ")");
+}
+
 std::string ResolvePath(const std::string &path, const fs::path &base_dir) {
     if (path.empty() || fs::path(path).is_absolute()) return path;
     return (base_dir / path).lexically_normal().string();
@@ -166,6 +216,7 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
                   {"folder", ReaderKind::kFolder},
                   {"radarscenes", ReaderKind::kRadarScenes},
                   {"nuscenes", ReaderKind::kNuScenes}});
+    RejectKeysTheReaderDoesNotRead(root, top, config.reader);
 
     YamlSection rosbag = top.Child("rosbag");
     config.rosbag.path = ResolvePath(rosbag.Get<std::string>("path", ""), base_dir);
@@ -318,20 +369,6 @@ DatasetConfig ResolveDataset(const std::string &argument) {
 
 namespace {
 
-const char *ReaderName(ReaderKind reader) {
-    switch (reader) {
-        case ReaderKind::kRosbag:
-            return "rosbag";
-        case ReaderKind::kFolder:
-            return "folder";
-        case ReaderKind::kRadarScenes:
-            return "radarscenes";
-        case ReaderKind::kNuScenes:
-            return "nuscenes";
-    }
-    return "rosbag";
-}
-
 // `key: [x, y, z]`, the form ReadVector3 reads back.
 void EmitVector3(YAML::Emitter &out, const char *key, const Eigen::Vector3d &v) {
     out << YAML::Key << key << YAML::Value << YAML::Flow
@@ -344,6 +381,26 @@ void EmitTransform(YAML::Emitter &out, const char *name, const Eigen::Isometry3d
     EmitVector3(out, "translation_m", T.translation());
     out << YAML::Key << "quaternion_xyzw" << YAML::Value << YAML::Flow
         << std::vector<double>{q.x(), q.y(), q.z(), q.w()};
+    out << YAML::EndMap;
+}
+
+// `fields:`, for the readers that read it (ReaderReads).
+void EmitFieldMap(YAML::Emitter &out, const DatasetConfig &config) {
+    if (!ReaderReads(config.reader, "fields")) return;
+    const FieldMap &f = config.fields;
+    out << YAML::Key << "fields" << YAML::Value << YAML::BeginMap;
+    for (const auto &[key, value] :
+         std::vector<std::pair<const char *, std::string>>{{"x", f.x},
+                                                           {"y", f.y},
+                                                           {"z", f.z},
+                                                           {"range", f.range},
+                                                           {"azimuth", f.azimuth},
+                                                           {"elevation", f.elevation},
+                                                           {"power", f.power},
+                                                           {"doppler", f.doppler}}) {
+        out << YAML::Key << key << YAML::Value << value;
+    }
+    out << YAML::Key << "doppler_sign" << YAML::Value << f.doppler_sign;
     out << YAML::EndMap;
 }
 
@@ -377,21 +434,7 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
         out << YAML::EndMap;
     }
     EmitFormatSection(out, config);
-    const FieldMap &f = config.fields;
-    out << YAML::Key << "fields" << YAML::Value << YAML::BeginMap;
-    for (const auto &[key, value] :
-         std::vector<std::pair<const char *, std::string>>{{"x", f.x},
-                                                           {"y", f.y},
-                                                           {"z", f.z},
-                                                           {"range", f.range},
-                                                           {"azimuth", f.azimuth},
-                                                           {"elevation", f.elevation},
-                                                           {"power", f.power},
-                                                           {"doppler", f.doppler}}) {
-        out << YAML::Key << key << YAML::Value << value;
-    }
-    out << YAML::Key << "doppler_sign" << YAML::Value << f.doppler_sign;
-    out << YAML::EndMap;
+    EmitFieldMap(out, config);
     if (!config.ground_truth.path.empty()) {
         out << YAML::Key << "ground_truth" << YAML::Value << YAML::BeginMap;
         out << YAML::Key << "path" << YAML::Value << config.ground_truth.path;

@@ -8,16 +8,22 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string Resolve(const std::string &path, const fs::path &base_dir) {
-    if (path.empty() || fs::path(path).is_absolute()) return path;
-    return (base_dir / path).lexically_normal().string();
+// A folder relative to the YAML file, normalised (no "." / "..") and without a trailing separator:
+// "data/sequence_105/" is "data/sequence_105", whose parent_path() is "data" (where RadarScenes
+// keeps sensors.json), not the folder itself.
+std::string ResolveDir(const std::string &path, const fs::path &base_dir) {
+    if (path.empty()) return path;
+    fs::path dir = fs::path(path).is_absolute() ? fs::path(path) : base_dir / path;
+    dir = dir.lexically_normal();
+    while (!dir.has_filename() && dir.has_relative_path()) dir = dir.parent_path();
+    return dir.string();
 }
 
 }  // namespace
 
 void ReadFormatSections(YamlSection &top, const fs::path &base_dir, DatasetConfig &config) {
     YamlSection rs = top.Child("radarscenes");
-    config.radarscenes.sequence_dir = Resolve(rs.Get<std::string>("sequence_dir", ""), base_dir);
+    config.radarscenes.sequence_dir = ResolveDir(rs.Get<std::string>("sequence_dir", ""), base_dir);
     config.radarscenes.sensor_id = rs.Get<int>("sensor_id", config.radarscenes.sensor_id);
     rs.RejectUnknownKeys();
     if (config.reader == ReaderKind::kRadarScenes) {
@@ -27,7 +33,7 @@ void ReadFormatSections(YamlSection &top, const fs::path &base_dir, DatasetConfi
             top.Fail("radarscenes.sensor_id", "must be 1, 2, 3 or 4 (RadarScenes' radars)");
     }
     YamlSection nu = top.Child("nuscenes");
-    config.nuscenes.dataroot = Resolve(nu.Get<std::string>("dataroot", ""), base_dir);
+    config.nuscenes.dataroot = ResolveDir(nu.Get<std::string>("dataroot", ""), base_dir);
     config.nuscenes.version = nu.Get<std::string>("version", "");
     config.nuscenes.scene = nu.Get<std::string>("scene", "");
     config.nuscenes.channel = nu.Get<std::string>("channel", "");

@@ -81,8 +81,17 @@ std::vector<Scene> SensorScenes(const std::string &path, int sensor_id) {
     return scenes;
 }
 
+// The sequence folder without "." / ".." parts and without a trailing separator, so that its
+// parent_path() is the folder above it (".../sequence_105/" names the same folder as
+// ".../sequence_105"; a DatasetConfig built in code is not normalised by the YAML loader).
+fs::path SequenceDir(const DatasetConfig &config) {
+    fs::path dir = fs::path(config.radarscenes.sequence_dir).lexically_normal();
+    while (!dir.has_filename() && dir.has_relative_path()) dir = dir.parent_path();
+    return dir;
+}
+
 std::string H5Path(const DatasetConfig &config) {
-    return (fs::path(config.radarscenes.sequence_dir) / "radar_data.h5").string();
+    return (SequenceDir(config) / "radar_data.h5").string();
 }
 
 class RadarScenesReader final : public DatasetReader {
@@ -91,8 +100,7 @@ class RadarScenesReader final : public DatasetReader {
         : source_(H5Path(config) + " (sensor_id " + std::to_string(config.radarscenes.sensor_id) +
                   ")"),
           sensor_id_(config.radarscenes.sensor_id),
-          scenes_(SensorScenes((fs::path(config.radarscenes.sequence_dir) / "scenes.json").string(),
-                               sensor_id_)),
+          scenes_(SensorScenes((SequenceDir(config) / "scenes.json").string(), sensor_id_)),
           file_(OpenH5File(H5Path(config))),
           table_(file_, H5Path(config), "radar_data",
                  {{"timestamp", ColumnKind::kInteger},
@@ -215,7 +223,7 @@ Trajectory LoadRadarScenesOdometry(const DatasetConfig &config) {
 
 Eigen::Isometry3d RadarScenesMount(const DatasetConfig &config) {
     // The data set keeps sensors.json next to the sequence folders; a copy inside one also works.
-    const fs::path dir(config.radarscenes.sequence_dir);
+    const fs::path dir = SequenceDir(config);
     fs::path path = dir / "sensors.json";
     if (!fs::exists(path)) path = dir.parent_path() / "sensors.json";
     if (!fs::exists(path))

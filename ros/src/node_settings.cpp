@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "dorado/config/map_config.hpp"
 #include "dorado/config/odometry_config.hpp"
 #include "dorado/core/paper_mount.hpp"
+#include "paper_estimator.hpp"
 
 namespace dorado::ros_node {
 namespace {
@@ -93,27 +95,16 @@ void ReadMount(const Params &params, bool has_config, NodeSettings &s) {
     s.T_base_child = mount.T_base_baselink;
 }
 
-// The paper's estimator keys on dorado's ego-velocity settings.
+// The paper's estimator keys on dorado's ego-velocity settings (paper_estimator.hpp).
 void ReadEstimator(const Params &params, odometry::EgoVelocityConfig &ego) {
     params.Get("min_points", ego.min_points);
     params.Get("use_power", ego.use_power);
     std::string mode;
-    const bool has_mode = params.Get("threshold_mode", mode);
     double value = 0.0;
+    const bool has_mode = params.Get("threshold_mode", mode);
     const bool has_value = params.Get("threshold_value", value);
-    if (!has_mode) mode = ego.method == odometry::RobustMethod::kRansac ? "ransac" : "";
-    if (mode == "ransac") {
-        ego.method = odometry::RobustMethod::kRansac;
-        // The paper's RANSAC inlier threshold [m/s] is dorado's gate for strong returns.
-        if (has_value) ego.doppler_sigma_mps = value / ego.gate_sigmas;
-        return;
-    }
-    if (!has_mode) return;
-    ego.method = odometry::RobustMethod::kTrimmedIrls;
-    ego.trim_mode = mode == "percent" ? odometry::TrimMode::kPercent
-                    : mode == "mad"   ? odometry::TrimMode::kMad
-                                      : odometry::TrimMode::kFixed;  // the paper's other modes
-    if (has_value) ego.trim_value = value;
+    ApplyPaperThreshold(has_mode ? std::optional<std::string>(mode) : std::nullopt,
+                        has_value ? std::optional<double>(value) : std::nullopt, ego);
 }
 
 void ReadFrontEnd(const Params &params, NodeSettings &s) {

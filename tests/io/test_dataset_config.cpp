@@ -3,6 +3,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include "dorado/io/dataset_config.hpp"
 
@@ -38,6 +40,41 @@ class DatasetConfigTest : public ::testing::Test {
 
     fs::path dir_;
 };
+
+// Every shipped description (configs/*.yaml with a `reader:`) loads: none has a key its reader does
+// not read.
+TEST_F(DatasetConfigTest, EveryShippedDescriptionLoads) {
+    std::size_t descriptions = 0;
+    for (const auto &entry : fs::directory_iterator(fs::path(DORADO_SOURCE_DIR) / "configs")) {
+        if (entry.path().extension() != ".yaml") continue;
+        std::ifstream in(entry.path());
+        const std::string text((std::istreambuf_iterator<char>(in)),
+                               std::istreambuf_iterator<char>());
+        if (text.rfind("reader:", 0) != 0 && text.find("\nreader:") == std::string::npos) continue;
+        ++descriptions;
+        EXPECT_NO_THROW((void)LoadDatasetConfig(entry.path().string())) << entry.path();
+    }
+    EXPECT_GE(descriptions, 8u);
+}
+
+// A section only another reader reads would be ignored without a word: each of its keys is named.
+TEST_F(DatasetConfigTest, KeysTheReaderDoesNotReadAreErrors) {
+    ExpectError("reader: rosbag\nrosbag: {path: x.bag}\nfolder: {scans_dir: s, columns: [x]}\n",
+                "key 'folder.scans_dir': is not used by reader: rosbag (remove it; the keys this "
+                "reader does not use: folder.scans_dir, folder.columns)");
+    ExpectError(
+        "reader: folder\nfolder: {scans_dir: s, timestamps_file: t, columns: [x, y, z, "
+        "v]}\nrosbag: {radar_topic: /radar}\nradarscenes: {sensor_id: 3}\n",
+        "key 'rosbag.radar_topic': is not used by reader: folder (remove it; the keys this "
+        "reader does not use: rosbag.radar_topic, radarscenes.sensor_id)");
+    ExpectError(
+        "reader: folder\nfolder: {scans_dir: s, timestamps_file: t, columns: [x, y, z, "
+        "v]}\nnuscenes: scene-0061\n",
+        "key 'nuscenes': is not used by reader: folder");
+    // An empty section sets nothing.
+    EXPECT_NO_THROW((void)LoadDatasetConfig(
+        WriteYaml("reader: rosbag\nrosbag: {path: x.bag}\nfolder:\nnuscenes: {scene: }\n")));
+}
 
 TEST_F(DatasetConfigTest, ShippedDescriptionsLoad) {
     for (const char *name :
@@ -123,15 +160,17 @@ TEST_F(DatasetConfigTest, VelocityPriorAndSeveralRadars) {
                 "'vehicle.velocity_prior.enabled'");
     ExpectError(bag + "vehicle: {velocity_prior: {sigma_vertical_mps: 0}}\n",
                 "'vehicle.velocity_prior.sigma_vertical_mps': must be a number > 0");
-    ExpectError(bag + "radars: [{name: a, scans_dir: s, timestamps_file: t, "
-                      "T_base_radar: {translation_m: [1, 0, 0]}}]\n",
+    ExpectError(bag +
+                    "radars: [{name: a, scans_dir: s, timestamps_file: t, "
+                    "T_base_radar: {translation_m: [1, 0, 0]}}]\n",
                 "'radars': needs reader: folder");
     const std::string folder =
         "reader: folder\nfolder: {scans_dir: s, timestamps_file: t, columns: [x, y, z, v]}\n";
     ExpectError(folder + "radars: [{name: a, scans_dir: s, timestamps_file: t}]\n",
                 "'radars[0].T_base_radar': is required");
-    ExpectError(folder + "radars: [{name: a, scans_dir: s, timestamps_file: t, "
-                         "T_base_radar: {translation_m: [1, 0, 0]}, topic: x}]\n",
+    ExpectError(folder +
+                    "radars: [{name: a, scans_dir: s, timestamps_file: t, "
+                    "T_base_radar: {translation_m: [1, 0, 0]}, topic: x}]\n",
                 "topic");
 }
 

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
 
 #include "dorado/io/dataset.hpp"
 
@@ -167,6 +168,65 @@ TEST_F(FormatReaders, RadarScenesMalformedFilesNameTheFileAndTheField) {
     expect(ErrorOf(RadarScenes("truncated")), "truncated/" + h5 + ": cannot open as an HDF5 file");
     expect(ErrorOf(RadarScenes("sequence_105", 2)),
            "scenes.json: no scene of sensor_id 2 (the sequence has sensors 1, 3)");
+}
+
+// "sequence_105/" is the folder "sequence_105": sensors.json is looked for in it and next to it
+// (its parent_path() once was the folder itself, and the mount was "missing").
+TEST_F(FormatReaders, RadarScenesSequenceDirWithATrailingSlashIsTheSameFolder) {
+    const DatasetConfig plain = RadarScenes();
+    const std::string absolute = (dir_ / "radarscenes" / "sequence_105").string() + "/";
+    for (const std::string &dir :
+         {absolute, absolute + "/", std::string("radarscenes/./sequence_105/")}) {
+        SCOPED_TRACE(dir);
+        DatasetConfig config;
+        ASSERT_NO_THROW(config = LoadDatasetConfig(
+                            Yaml("rs_slash", "reader: radarscenes\nradarscenes:\n  sequence_dir: " +
+                                                 dir + "\n  sensor_id: 3\n")));
+        EXPECT_EQ(config.radarscenes.sequence_dir, plain.radarscenes.sequence_dir);
+        EXPECT_TRUE(config.extrinsics.T_base_radar.isApprox(plain.extrinsics.T_base_radar, 1e-12));
+        ExpectSameScans(ReadAll(config), ReadFolder(dir_ / "radarscenes" / "expected", kScans),
+                        0.0);
+    }
+    DatasetConfig in_code = plain;  // not through the YAML loader
+    in_code.radarscenes.sequence_dir += "/";
+    ExpectSameScans(ReadAll(in_code), ReadFolder(dir_ / "radarscenes" / "expected", kScans), 0.0);
+    EXPECT_TRUE(LoadGroundTruth(in_code).has_value());
+}
+
+// The data sets' own readers decode their own fields: a field map, or another reader's section, is
+// an error naming every such key (it was ignored without a word).
+TEST_F(FormatReaders, KeysTheFormatReadersDoNotReadAreErrors) {
+    const auto error_of = [](const std::string &path) -> std::string {
+        try {
+            (void)LoadDatasetConfig(path);
+        } catch (const ConfigError &e) {
+            return e.what();
+        }
+        return "(no error)";
+    };
+    const std::string rs = "reader: radarscenes\nradarscenes:\n  sequence_dir: " +
+                           (dir_ / "radarscenes" / "sequence_105").string() + "\n  sensor_id: 3\n";
+    const std::string sign = Yaml("rs_sign", rs + "fields:\n  doppler_sign: -1\n");
+    EXPECT_EQ(error_of(sign), sign +
+                                  ": key 'fields.doppler_sign': is not used by reader: radarscenes "
+                                  "(remove it; the keys this reader does not use: "
+                                  "fields.doppler_sign)");
+    const std::string leftover =
+        Yaml("rs_leftover", rs + "folder:\n  scans_dir: scans\n  extension: .bin\n"
+                                 "nuscenes: {channel: RADAR_FRONT}\nfields: {power: rcs}\n");
+    EXPECT_EQ(error_of(leftover),
+              leftover +
+                  ": key 'folder.scans_dir': is not used by reader: radarscenes (remove it; the "
+                  "keys this reader does not use: folder.scans_dir, folder.extension, "
+                  "nuscenes.channel, fields.power)");
+    const std::string nu_bag =
+        Yaml("nu_bag", "reader: nuscenes\nnuscenes: {dataroot: " + (dir_ / "nuscenes").string() +
+                           ", version: v1.0-mini, scene: scene-0061, channel: RADAR_FRONT}\n"
+                           "rosbag: {radar_topic: /radar}\nradarscenes: {sensor_id: 3}\n");
+    EXPECT_EQ(error_of(nu_bag),
+              nu_bag +
+                  ": key 'rosbag.radar_topic': is not used by reader: nuscenes (remove it; the "
+                  "keys this reader does not use: rosbag.radar_topic, radarscenes.sensor_id)");
 }
 
 TEST_F(FormatReaders, NuScenesSweepsTimesAndMountAreThoseWrittenIn) {
