@@ -19,8 +19,28 @@ namespace {
 
 struct MapOptions {
     std::string dataset, out, config, odometry_config, prior = "doppler", refine;
-    bool no_mask = false;
+    bool no_mask = false, masks = false;
 };
+
+// DIR/masks/NNNNNN.txt: what the map used of each point (the odometry's labels, and 3 for the
+// points the mover rules kept out although the Doppler called them static).
+void WriteMapMask(const std::string &out_dir, std::size_t scan_index,
+                  const frontend::FrontEndResult &r) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "/masks/%06zu.txt", scan_index);
+    const mapping::PointMask &dropped = r.registration.mover_dropped;
+    io::WriteFileAtomically(out_dir + name, [&](std::ostream &os) {
+        os << "# stamp_ns " << r.stamp_ns << ", one label per point in input order: "
+           << "0 static, 1 dynamic, 2 filtered, 3 kept out as a mover's (near a moving point or "
+              "where something moved)\n";
+        const auto &labels = r.odometry.ego.labels;
+        for (std::size_t i = 0; i < labels.size(); ++i) {
+            const bool mover = static_cast<Eigen::Index>(i) < dropped.size() &&
+                               dropped(static_cast<Eigen::Index>(i));
+            os << (mover ? 3 : static_cast<int>(labels[i])) << '\n';
+        }
+    });
+}
 
 // The front end's settings from the flags and the two YAML files.
 frontend::FrontEndConfig FrontEndConfigOf(const MapOptions &opt,
@@ -49,8 +69,10 @@ void RunMap(const MapOptions &opt) {
         throw io::ConfigError(DatasetFile(dataset, opt.dataset) +
                               ": key 'rosbag.imu_topic': --prior " + opt.prior +
                               " needs an IMU topic");
+    const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "map");
     frontend::RadarFrontEnd front_end(config, dataset.extrinsics, dataset.vehicle);
     io::MakeDirectories(opt.out);
+    if (opt.masks) io::MakeDirectories(opt.out + "/masks");
 
     const std::size_t expected = CountRadarMessages(dataset, needs_imu, "--prior " + opt.prior);
     auto reader = io::OpenDataset(dataset);
@@ -59,7 +81,10 @@ void RunMap(const MapOptions &opt) {
     ScanLoop loop(front_end);
     StreamGuard guard;  // Ctrl-C or a reader error mid-stream: stop, write what was done
     loop.Run(*reader, guard, progress,
-             [&](const io::DatasetEvent &, const frontend::FrontEndResult &r) { outputs.Add(r); });
+             [&](const io::DatasetEvent &event, const frontend::FrontEndResult &r) {
+                 outputs.Add(r);
+                 if (opt.masks && r.accepted) WriteMapMask(opt.out, event.scan_index, r);
+             });
     guard.ThrowIfNoScanUsed(loop.used(), reader->source());
 
     outputs.Write(opt.out, front_end.trajectory());
@@ -75,6 +100,7 @@ void RunMap(const MapOptions &opt) {
         {"scans_registered", loop.used()},
         {"scans_skipped", loop.scans() - loop.used()},
         {"path_length_m", front_end.trajectory().PathLength()}};
+    if (!radars_used.is_null()) summary["radars"] = radars_used;
     AddStreamCounts(loop, summary);
     summary.update(outputs.Summary());
     WriteSummary(opt.out, summary);
@@ -107,6 +133,9 @@ void RegisterMapCommand(CLI::App &app) {
                     "Doppler estimator settings (configs/odometry.yaml; `dorado config print "
                     "odometry`)");
     cmd->add_flag("--no-mask", opt->no_mask, "keep the dynamic points (ablation)");
+    cmd->add_flag("--masks", opt->masks,
+                  "write DIR/masks/NNNNNN.txt: per point 0 static, 1 dynamic, 2 filtered, 3 kept "
+                  "out by the mover rules");
     cmd->add_option("--refine", opt->refine,
                     "ceres (default), window (fixed-lag smoother), none (PCL registration only) or "
                     "filter (ceres, the output an error-state filter over the map chain)");

@@ -120,6 +120,7 @@ std::string CauseList(const std::map<std::string, int> &causes) {
 
 void RunOdometry(const OdometryOptions &opt) {
     const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset);
+    const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "odometry");
     frontend::FrontEndConfig config;
     config.run_mapper = false;
     if (!opt.config.empty()) config.odometry = dorado::config::LoadOdometryConfig(opt.config);
@@ -198,6 +199,7 @@ void RunOdometry(const OdometryOptions &opt) {
         {"inlier_ratio", Stats(inlier_ratios)},
         {"time_per_scan_ms", Stats(times_ms)},
         {"path_length_m", front_end.trajectory().PathLength()}};
+    if (!radars_used.is_null()) summary["radars"] = radars_used;
     if (config.odometry.ground.enabled) {
         summary["ground"] = {{"scans_with_ground", ground_scans},
                              {"scans_without_ground", ground_fallbacks}};

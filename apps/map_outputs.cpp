@@ -16,7 +16,9 @@ namespace {
 constexpr const char *kCsvHeader =
     "t,time_doppler_ms,time_prior_ms,time_preprocess_ms,time_registration_ms,time_refinement_ms,"
     "time_map_update_ms,time_total_ms,correspondences,fitness,fallback,fallback_reason,prior,"
-    "prior_substitution,local_map_points,s_x_online_m,sigma_s_x_online_m,yaw_calibration\n";
+    "prior_substitution,local_map_points,s_x_online_m,sigma_s_x_online_m,yaw_calibration,"
+    "mover_points_dropped,map_points_dropped,prior_scale_translation,prior_scale_rotation,"
+    "registration_scale_translation,registration_scale_rotation\n";
 
 // "bad fitness (rms 1.7 m)": the cause and its numbers, for scans.csv.
 std::string Reason(const mapping::RegistrationResult &r) {
@@ -96,7 +98,15 @@ void MapOutputs::Add(const frontend::FrontEndResult &result) {
     } else {
         csv_ += ",,";
     }
-    csv_ += std::string(odometry::ToString(yaw.status)) + '\n';
+    csv_ += std::string(odometry::ToString(yaw.status)) + ',' +
+            std::to_string(r.mover_points_dropped) + ',' + std::to_string(r.map_points_dropped);
+    const mapping::NoiseScales &scales = r.noise_scales;
+    std::snprintf(row, sizeof(row), ",%.4g,%.4g,%.4g,%.4g\n", scales.prior(0), scales.prior(1),
+                  scales.registration(0), scales.registration(1));
+    csv_ += row;
+    noise_scales_ = scales;
+    mover_points_dropped_ += r.mover_points_dropped;
+    map_points_dropped_ += r.map_points_dropped;
     max_local_map_points_ = std::max(max_local_map_points_, r.local_map_points);
 }
 
@@ -125,6 +135,13 @@ nlohmann::json MapOutputs::Summary() const {
         {"fallbacks_per_5s", fallbacks_by_time_},
         {"prior_substitutions_constvel", prior_substitutions_},
         {"scans_without_mask", unmasked_},
+        {"mover_points_dropped", mover_points_dropped_},
+        {"map_points_dropped", map_points_dropped_},
+        {"noise_scales",
+         {{"prior_translation", noise_scales_.prior(0)},
+          {"prior_rotation", noise_scales_.prior(1)},
+          {"registration_translation", noise_scales_.registration(0)},
+          {"registration_rotation", noise_scales_.registration(1)}}},
         {"time_per_scan_ms",
          TimeStatistics(total == stage_ms_.end() ? std::vector<double>{} : total->second)},
         {"time_per_stage_ms", stages},

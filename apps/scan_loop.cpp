@@ -70,6 +70,22 @@ std::string DatasetFile(const io::DatasetConfig &dataset, const std::string &arg
     return dataset.config_path.empty() ? arg : dataset.config_path;
 }
 
+nlohmann::json ReportRadarsUsed(const io::DatasetConfig &dataset, const std::string &arg,
+                                const std::string &command) {
+    if (dataset.radars.size() < 2) return nullptr;
+    std::string names;
+    for (const io::RadarStream &radar : dataset.radars)
+        names += (names.empty() ? "" : ", ") + radar.name;
+    std::fprintf(stderr,
+                 "%s: warning: %s: key 'radars' lists %zu radars (%s); dorado %s reads only the "
+                 "`folder:` + `extrinsics:` radar (%s): the others are not used (their joint "
+                 "twist: dorado twist)\n",
+                 command.c_str(), DatasetFile(dataset, arg).c_str(), dataset.radars.size(),
+                 names.c_str(), command.c_str(), dataset.folder.scans_dir.c_str());
+    return {{"radars_listed", dataset.radars.size()},
+            {"radars_used", nlohmann::json::array({dataset.folder.scans_dir})}};
+}
+
 void AddStreamCounts(const ScanLoop &loop, nlohmann::json &summary) {
     summary["skip_reasons"] = loop.skips().Counts();
     summary["skipped"] = loop.skips().Scans();

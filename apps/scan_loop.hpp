@@ -51,6 +51,11 @@ class ScanLoop {
 [[nodiscard]] bool HasImuTopic(const io::DatasetConfig &dataset);
 /// The file to name in a message about the dataset description (the YAML, or the bag given).
 [[nodiscard]] std::string DatasetFile(const io::DatasetConfig &dataset, const std::string &arg);
+/// With several radars listed (`radars:`), says once on stderr which one `command` reads (the
+/// `folder:` + `extrinsics:` radar) and that the others are not used, and returns the summary's
+/// record of it ({"radars_listed": N, "radars_used": [...]}); null for a one-radar dataset.
+nlohmann::json ReportRadarsUsed(const io::DatasetConfig &dataset, const std::string &arg,
+                                const std::string &command);
 /// Adds the loop's skip and warning lists and counts to summary.json.
 void AddStreamCounts(const ScanLoop &loop, nlohmann::json &summary);
 /// Writes out_dir/summary.json atomically.

@@ -53,6 +53,23 @@ mapping::BaseTwist PriorTwist(const odometry::OdometryStep &step) {
             step.covariance_used.bottomRightCorner<3, 3>()};
 }
 
+// The mask's outliers whose Doppler is farther than min_speed_mps from a static point's,
+// -d . v_radar (unwrapped into the radar's unambiguous interval): seen moving, not noisy.
+mapping::PointMask SeenMoving(const RadarScan &scan, const odometry::EgoVelocityResult &ego,
+                              const RadarSensorModel &sensor, double min_speed_mps) {
+    mapping::PointMask moving = mapping::PointMask::Constant(scan.size(), false);
+    const double v = sensor.doppler_unambiguous_mps;
+    for (Eigen::Index i = 0; i < scan.size(); ++i) {
+        if (ego.labels[static_cast<std::size_t>(i)] != odometry::PointLabel::kDynamic) continue;
+        const Eigen::Vector3d p = scan.xyz_radar.col(i);
+        if (!p.allFinite() || !std::isfinite(scan.doppler_mps(i)) || p.norm() <= 0.0) continue;
+        double residual = scan.doppler_mps(i) + p.normalized().dot(ego.v_radar_mps);
+        if (v > 0.0) residual -= 2.0 * v * std::round(residual / (2.0 * v));
+        moving(i) = std::abs(residual) > min_speed_mps;
+    }
+    return moving;
+}
+
 // "no valid velocity: too few points (3 < 10)" -> "doppler: no valid velocity".
 std::string Cause(const std::string &reason) {
     return "doppler: " + reason.substr(0, reason.find(':'));
@@ -302,11 +319,20 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
         }
         result.times.prior_ms = MillisecondsSince(t_prior);
         if (step.planar && !s.mapper->planar()) s.mapper->SetPlanar();  // a 2D radar
+        mapping::MapperInput input;
+        input.prior = result.prior;
+        input.dt_s = dt_s;
+        if (mask != nullptr) {
+            input.static_mask = *mask;
+            input.moving_mask =
+                SeenMoving(scan_radar, step.ego, s.config.odometry.ego_velocity.sensor,
+                           s.config.mapper.movers.min_radial_speed_mps);
+        }
         // The gyro feeds the window smoother when the prior is an IMU one.
-        const bool gyro = mapping::NeedsImu(s.config.prior) && gyro_base.allFinite();
-        result.registration =
-            s.mapper->Register(scan_radar, result.prior, dt_s, mask, gyro ? &gyro_base : nullptr,
-                               ground_up ? &*ground_up : nullptr);
+        if (mapping::NeedsImu(s.config.prior) && gyro_base.allFinite())
+            input.gyro_base_radps = gyro_base;
+        input.ground_base = ground_up;
+        result.registration = s.mapper->Register(scan_radar, input);
         result.times.mapper = result.registration.times;
         result.T_world_base = result.registration.T_world_base;
         if (s.yaw_calibrator) s.CalibrateYawLever(result);

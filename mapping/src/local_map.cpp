@@ -310,6 +310,25 @@ Eigen::Matrix3Xd LocalMap::Update(const Eigen::Matrix3Xd &points_world,
     return added;
 }
 
+std::size_t LocalMap::Remove(const std::vector<VoxelKey> &keys) {
+    Impl &m = *impl_;
+    std::size_t dropped = 0;
+    for (const VoxelKey &key : keys) {
+        const auto it = m.voxels.find(key);
+        if (it == m.voxels.end()) continue;
+        dropped += static_cast<std::size_t>(it->second.count);
+        m.point_count -= static_cast<std::size_t>(it->second.count);
+        m.free_blocks.push_back(it->second.first);
+        m.voxels.erase(it);
+        if (m.shapes_used) {
+            ++m.update_stamp;  // the shapes that reached this voxel are stale
+            m.MarkChanged(key);
+        }
+    }
+    if (dropped > 0) m.cloud_dirty = true;
+    return dropped;
+}
+
 Eigen::Matrix3Xd LocalMap::Points() const {
     Eigen::Matrix3Xd out(3, static_cast<Eigen::Index>(impl_->point_count));
     Eigen::Index c = 0;

@@ -15,6 +15,8 @@ void MapperConfig::Validate() const {
     Require(scan_voxel_m > 0.0 && std::isfinite(scan_voxel_m), "mapper.scan_voxel_m",
             "must be > 0");
     map.Validate();
+    movers.Validate();
+    noise_calibration.Validate();
     Require(keyframe_distance_m >= 0.0, "mapper.keyframe_distance_m", "must be >= 0");
     Require(keyframe_angle_deg >= 0.0, "mapper.keyframe_angle_deg", "must be >= 0");
     Require(max_source_points >= 10, "mapper.max_source_points", "must be >= 10");

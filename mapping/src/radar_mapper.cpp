@@ -21,26 +21,69 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// The points of a scan the mapper uses: in the range gate, finite, and static when a mask is given.
+// The points of a scan the mapper uses: in the range gate, finite, static by the mask, and not
+// near anything seen moving (movers.hpp).
 struct ScanPoints {
     Eigen::Matrix3Xd p_base;  ///< all used points, base frame (for the map)
     std::vector<DopplerObservation> doppler;
+    Eigen::Matrix3Xd moving_base;  ///< the points seen moving (clustered), base frame
+    PointMask mover_dropped;       ///< per scan point: kept out by the mover rules
 };
 
-ScanPoints SelectScanPoints(const RadarScan &scan, const PointMask *static_mask,
-                            const Eigen::Isometry3d &T_base_radar, const MapperConfig &config) {
+bool InRange(const Eigen::Vector3d &p_radar, const MapperConfig &config) {
+    const double range = p_radar.norm();
+    return std::isfinite(range) && range >= config.min_range_m && range <= config.max_range_m;
+}
+
+// T_world_base (the prior on the map's chain) places the points in the mover memory's cells;
+// this scan's moving points are marked before the others are looked up.
+ScanPoints SelectScanPoints(const RadarScan &scan, const MapperInput &input,
+                            const Eigen::Isometry3d &T_world_base,
+                            const Eigen::Isometry3d &T_base_radar, const MapperConfig &config,
+                            MoverMemory &movers, double time_s,
+                            std::vector<VoxelKey> &moving_cells) {
     ScanPoints out;
-    out.p_base.resize(3, scan.size());
-    Eigen::Index n = 0;
+    out.mover_dropped = PointMask::Constant(scan.size(), false);
+    const bool masked = input.static_mask.size() > 0;
+    const bool moving = input.moving_mask.size() > 0;
+    std::vector<Eigen::Index> candidates;
+    candidates.reserve(static_cast<std::size_t>(scan.size()));
+    out.moving_base.resize(3, moving ? input.moving_mask.count() : 0);
+    Eigen::Index m = 0;
     for (Eigen::Index i = 0; i < scan.size(); ++i) {
-        if (static_mask != nullptr && !(*static_mask)(i)) continue;
-        const Eigen::Vector3d p_radar = scan.xyz_radar.col(i);
-        const double range = p_radar.norm();
-        if (!std::isfinite(range) || range < config.min_range_m || range > config.max_range_m)
+        if (moving && input.moving_mask(i)) {
+            if (scan.xyz_radar.col(i).allFinite())
+                out.moving_base.col(m++) = T_base_radar * scan.xyz_radar.col(i);
             continue;
-        out.p_base.col(n++) = T_base_radar * p_radar;  // radar frame in, base frame out
+        }
+        if (masked && !input.static_mask(i)) continue;
+        if (InRange(scan.xyz_radar.col(i), config)) candidates.push_back(i);
+    }
+    out.moving_base.conservativeResize(3, m);
+    // Evidence of a mover: the clustered ones (a ghost or a noisy return is alone).
+    out.moving_base = Clustered(out.moving_base, config.movers.neighbour_radius_m,
+                                config.movers.min_cluster_points);
+    moving_cells = movers.Observe(T_world_base * out.moving_base, time_s);
+
+    Eigen::Matrix3Xd candidates_base(3, static_cast<Eigen::Index>(candidates.size()));
+    for (std::size_t k = 0; k < candidates.size(); ++k)
+        candidates_base.col(static_cast<Eigen::Index>(k)) =
+            T_base_radar * scan.xyz_radar.col(candidates[k]);  // radar frame in, base frame out
+    const std::vector<bool> near =
+        NearAny(candidates_base, out.moving_base, config.movers.neighbour_radius_m);
+    out.p_base.resize(3, candidates_base.cols());
+    Eigen::Index n = 0;
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+        const Eigen::Vector3d p_base = candidates_base.col(static_cast<Eigen::Index>(k));
+        const Eigen::Index i = candidates[k];
+        if (near[k] || movers.Moving(T_world_base * p_base)) {
+            out.mover_dropped(i) = true;
+            continue;
+        }
+        out.p_base.col(n++) = p_base;
+        const Eigen::Vector3d p_radar = scan.xyz_radar.col(i);
         if (std::isfinite(scan.doppler_mps(i)))
-            out.doppler.push_back({p_radar / range, scan.doppler_mps(i)});
+            out.doppler.push_back({p_radar / p_radar.norm(), scan.doppler_mps(i)});
     }
     out.p_base.conservativeResize(3, n);
     return out;
@@ -99,6 +142,9 @@ struct RadarMapper::State {
     MapperConfig config;
     Extrinsics extrinsics;
     LocalMap map;
+    MoverMemory movers;
+    NoiseCalibration noise;
+    double time_s = 0.0;  ///< the sum of the scans' dt_s (the mover memory's clock)
     AdaptiveThreshold threshold;
     bool has_pose = false;
     /// Two chains of poses (refinement ceres, and filter without filter_builds_map): the output
@@ -119,6 +165,8 @@ struct RadarMapper::State {
         : config(c),
           extrinsics(e),
           map(c.map),
+          movers(c.movers, c.map.voxel_size_m),
+          noise(c.noise_calibration),
           threshold(c.initial_threshold_m, c.min_threshold_m, c.min_motion_m, c.max_range_m) {
         if (c.refinement == Refinement::kWindow) window.emplace(c.window, WindowNoiseOf(c), e, g);
     }
@@ -291,6 +339,7 @@ Refined RadarMapper::State::Refine(const Eigen::Matrix3Xd &source_base,
         input.prior_output = &prior;
         input.T_world_base_prev_output = T_world_base_last;
         input.ground = ceres ? ground : nullptr;
+        input.registration_scale = noise.scales().registration;
         const RefinementOutput refined =
             ceres ? RefinePose(input, config) : RegisterAlone(input, config);
         if (!refined.usable) break;
@@ -359,9 +408,22 @@ MapRegistration RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source
         CheckRegistration(aligned, out.association, out.prior_mahalanobis_squared, config);
     if (out.cause != FallbackCause::kNone) return out;
 
+    // Covariance matching: PCL's pose (the registration alone, started at the prior) against the
+    // prior, each with its model's covariance; then both weighed by the scales learnt so far.
+    const auto loss = MakeLoss(config.kernel, config.kernel_scale);
+    const RegisteredPose alone =
+        RegistrationCovariance(aligned.T_world_base, out.association.matches, loss.get(), config);
+    if (alone.valid && alone.weak_directions == 0)
+        noise.Add(LogSE3(prior_map.T_world_base.inverse() * aligned.T_world_base),
+                  prior_map.covariance, alone.covariance);
+    const NoiseScales &scales = noise.scales();
+    MotionPrior prior_map_scaled = prior_map, prior_scaled = prior;
+    prior_map_scaled.covariance = ScaleBlocks(prior_map.covariance, scales.prior);
+    prior_scaled.covariance = ScaleBlocks(prior.covariance, scales.prior);
+
     const auto t_refine = Clock::now();
-    out.refined = Refine(source_base, doppler, prior_map, prior, dt_s, threshold_m, out.association,
-                         aligned.T_world_base, ground);
+    out.refined = Refine(source_base, doppler, prior_map_scaled, prior_scaled, dt_s, threshold_m,
+                         out.association, aligned.T_world_base, ground);
     out.refinement_ms = MillisecondsSince(t_refine);
     // kiss-icp: the threshold adapts to how far registration corrected the prior.
     threshold.Update(prior_map.T_world_base.inverse() * out.refined.T_map);
@@ -372,12 +434,29 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
                                          double dt_s, const PointMask *static_mask,
                                          const Eigen::Vector3d *gyro_base_radps,
                                          const GroundUp *ground_base) {
+    MapperInput input;
+    input.prior = prior;
+    input.dt_s = dt_s;
+    if (static_mask != nullptr) input.static_mask = *static_mask;
+    if (gyro_base_radps != nullptr) input.gyro_base_radps = *gyro_base_radps;
+    if (ground_base != nullptr) input.ground_base = *ground_base;
+    return Register(scan_radar, input);
+}
+
+RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const MapperInput &input) {
     State &s = *state_;
     const MapperConfig &config = s.config;
-    if (static_mask != nullptr && static_mask->size() != scan_radar.size())
-        throw std::invalid_argument("RadarMapper::Register: mask has " +
-                                    std::to_string(static_mask->size()) + " entries, scan has " +
-                                    std::to_string(scan_radar.size()) + " points");
+    const MotionPrior &prior = input.prior;
+    const double dt_s = input.dt_s;
+    const GroundUp *ground_base = input.ground_base ? &*input.ground_base : nullptr;
+    const Eigen::Vector3d *gyro_base_radps =
+        input.gyro_base_radps ? &*input.gyro_base_radps : nullptr;
+    for (const auto &[name, mask] :
+         {std::pair{"mask", &input.static_mask}, std::pair{"moving mask", &input.moving_mask}})
+        if (mask->size() != 0 && mask->size() != scan_radar.size())
+            throw std::invalid_argument(std::string("RadarMapper::Register: ") + name + " has " +
+                                        std::to_string(mask->size()) + " entries, scan has " +
+                                        std::to_string(scan_radar.size()) + " points");
     if (s.has_pose && !(std::isfinite(dt_s) && dt_s > 0.0))
         throw std::invalid_argument("RadarMapper::Register: dt must be finite and > 0");
     if (!prior.T_world_base.matrix().allFinite() || !prior.covariance.allFinite())
@@ -388,22 +467,29 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
     result.T_world_base = prior.T_world_base;
     result.covariance = prior.covariance;  // until a refinement fuses the registration into it
     result.threshold_m = s.threshold.Threshold();
+    if (s.has_pose) s.time_s += dt_s;
 
-    // 1. Points: range gate, dynamic mask, base frame, voxel downsampling.
+    // 1. Points: range gate, dynamic mask and movers, base frame, voxel downsampling. The map
+    //    drops what it held where something moves now.
+    // The prior moved onto the map's chain: the same motion from the map's previous pose.
+    MotionPrior prior_map = prior;
+    if (s.has_pose)
+        prior_map.T_world_base =
+            s.T_map_base_last * s.T_world_base_last.inverse() * prior.T_world_base;
+    std::vector<VoxelKey> moving_cells;
     const ScanPoints points =
-        SelectScanPoints(scan_radar, static_mask, s.extrinsics.T_base_radar, config);
+        SelectScanPoints(scan_radar, input, prior_map.T_world_base, s.extrinsics.T_base_radar,
+                         config, s.movers, s.time_s, moving_cells);
+    result.mover_dropped = points.mover_dropped;
+    result.mover_points_dropped = static_cast<int>(points.mover_dropped.count());
+    result.map_points_dropped = static_cast<int>(s.map.Remove(moving_cells));
     const Eigen::Matrix3Xd source_base =
         ThinColumns(VoxelDownsample(points.p_base, config.scan_voxel_m), config.max_source_points);
     result.source_points = static_cast<int>(source_base.cols());
     result.times.preprocess_ms = MillisecondsSince(t_start);
 
-    // 2-3. Registration and refinement, or the prior. The prior moved onto the map's chain: the
-    //      same motion from the map's previous pose.
-    MotionPrior prior_map = prior;
+    // 2-3. Registration and refinement, or the prior.
     const bool filter = config.refinement == Refinement::kFilter;
-    if (s.has_pose)
-        prior_map.T_world_base =
-            s.T_map_base_last * s.T_world_base_last.inverse() * prior.T_world_base;
     // The output chain's prior (refinement filter: with the filter's prediction of its covariance
     // relative to the map chain, P^- = Ad(D^-1) P Ad(D^-1)^T + C_prior).
     MotionPrior prior_output = prior;
@@ -469,9 +555,11 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
     }
     if (result.fallback()) {
         result.T_world_base = prior.T_world_base;
+        result.covariance = ScaleBlocks(prior.covariance, s.noise.scales().prior);
         T_map = prior_map.T_world_base;
         ++s.fallbacks;
     }
+    result.noise_scales = s.noise.scales();
     if (s.window) {  // every scan enters the window; a fallback one without registration residuals
         const auto t_window = Clock::now();
         result.T_world_base = s.SmoothWindow(points.doppler, window_matches, prior, dt_s,

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "cost_functions.hpp"
+#include "dorado/mapping/noise_calibration.hpp"
 #include "ground_factor.hpp"
 #include "pose_information.hpp"
 #include "registration.hpp"
@@ -145,6 +146,12 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
         return out;
     out.registered = RegistrationCovariance(registered.Pose(), *input.matches, loss.get(), config);
     if (!out.registered.valid) return out;
+    if (input.registration_scale != Eigen::Vector2d::Ones()) {  // the online noise calibration
+        out.registered.covariance =
+            ScaleBlocks(out.registered.covariance, input.registration_scale);
+        out.registered.information =
+            ScaleBlocks(out.registered.information, input.registration_scale.cwiseInverse());
+    }
     if (out.registered.weak_directions > 0) {
         // Solution remapping (Zhang et al. 2016): along the weak directions the registered pose
         // keeps the prior's value; the correction from the prior is kept across the strong ones.

@@ -66,6 +66,9 @@ struct RefinementInput {
     /// The road's up-vector seen in this scan (none: no ground residual): held against the
     /// absolute roll and pitch of both steps' poses, each chain's once.
     const GroundUp *ground = nullptr;
+    /// The registration's covariance scales (translation, rotation blocks) by the online noise
+    /// calibration (noise_calibration.hpp): applied to the registered pose's covariance.
+    Eigen::Vector2d registration_scale = Eigen::Vector2d::Ones();
 };
 
 struct RefinementOutput {

@@ -65,9 +65,14 @@ struct DriveResult {
     double map_offset_from_output_m = 0;
 };
 
+// What the mapper is told of the moving car: nothing (every point static), the truth, or a leaky
+// Doppler mask that flags one car point in ten as moving and passes the rest as static (what a
+// car crossing the beam, or a crowd moving together, looks like to the Doppler mask).
+enum class Mask { kNone, kTrue, kLeaky };
+
 // Drives `scans` scans down the street with a car overtaking in the next lane; the prior is the
 // truth's twist with Doppler-odometry-like noise.
-DriveResult Drive(int scans, bool use_mask, const MapperConfig &config) {
+DriveResult Drive(int scans, Mask mask, const MapperConfig &config) {
     const Eigen::Matrix3Xd world = MakeStreetWorld(5);
     const auto truth = MakeDrive(scans, 0.1);
     std::mt19937 rng(21);
@@ -105,8 +110,21 @@ DriveResult Drive(int scans, bool use_mask, const MapperConfig &config) {
                 previous.T_world_base.inverse() * truth[k].T_world_base;
             prior_error_sum += (true_step.inverse() * step).translation().norm();
         }
-        const RegistrationResult r =
-            mapper.Register(scan, prior, 0.1, use_mask ? &is_static : nullptr);
+        MapperInput input;
+        input.prior = prior;
+        input.dt_s = 0.1;
+        if (mask == Mask::kTrue) input.static_mask = is_static;
+        if (mask == Mask::kLeaky) {
+            input.static_mask = PointMask::Constant(scan.size(), true);
+            input.moving_mask = PointMask::Constant(scan.size(), false);
+            int car_point = 0;
+            for (Eigen::Index i = 0; i < scan.size(); ++i)
+                if (!is_static(i) && car_point++ % 10 == 0) {
+                    input.moving_mask(i) = true;
+                    input.static_mask(i) = false;
+                }
+        }
+        const RegistrationResult r = mapper.Register(scan, input);
         if (getenv("DEBUG_MAPPER"))
             std::printf("scan %d: fb %d %s corr %d rms %.3f obs %.4f mah %.1f thr %.2f err %.3f\n",
                         k, r.fallback(), ToString(r.fallback_cause), r.correspondences,
@@ -165,6 +183,10 @@ DriveResult Drive(int scans, bool use_mask, const MapperConfig &config) {
     return out;
 }
 
+DriveResult Drive(int scans, bool use_mask, const MapperConfig &config) {
+    return Drive(scans, use_mask ? Mask::kTrue : Mask::kNone, config);
+}
+
 DriveResult Drive(int scans, bool use_mask, Refinement refinement) {
     MapperConfig config;
     config.refinement = refinement;
@@ -176,6 +198,35 @@ TEST(RadarMapper, MaskKeepsTheMovingCarOutOfTheMap) {
     const DriveResult with = Drive(15, true, Refinement::kNone);
     EXPECT_GT(without.map_points_in_lane, 20) << "the car should be in an unmasked map";
     EXPECT_LE(with.map_points_in_lane, 2) << "the mask should keep the car out";
+}
+
+// The mover rules (movers.hpp) on a mask that flags one car point in ten: the neighbours of a
+// flagged point and the cells where one was seen stay out of the map. Without the rules the
+// car's passed-as-static points fill its lane.
+TEST(RadarMapper, MoverRulesKeepALeakilyMaskedCarOutOfTheMap) {
+    MapperConfig config;
+    config.refinement = Refinement::kNone;
+    MapperConfig off = config;
+    off.movers.neighbour_radius_m = 0.0;
+    off.movers.memory_s = 0.0;
+    const DriveResult without = Drive(15, Mask::kLeaky, off);
+    const DriveResult with = Drive(15, Mask::kLeaky, config);
+    MapperConfig neighbours_only = config;
+    neighbours_only.movers.memory_s = 0.0;
+    MapperConfig memory_only = config;
+    memory_only.movers.neighbour_radius_m = 0.0;
+    const double neighbours = Drive(15, Mask::kLeaky, neighbours_only).map_points_in_lane;
+    const double memory = Drive(15, Mask::kLeaky, memory_only).map_points_in_lane;
+    std::printf(
+        "car points in the map: %.0f without the rules, %.0f with, %.0f neighbours only, "
+        "%.0f memory only\n",
+        without.map_points_in_lane, with.map_points_in_lane, neighbours, memory);
+    EXPECT_GT(without.map_points_in_lane, 20) << "the leaky mask lets the car into the map";
+    EXPECT_LE(with.map_points_in_lane, 0.2 * without.map_points_in_lane)
+        << "the mover rules should keep most of the car out";
+    // Each rule alone catches part of it.
+    EXPECT_LT(neighbours, 0.3 * without.map_points_in_lane);
+    EXPECT_LT(memory, 0.3 * without.map_points_in_lane);
 }
 
 TEST(RadarMapper, ShortDriveStaysWithinStatedRpe) {

@@ -9,6 +9,9 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <memory>
+#include <vector>
+
+#include "dorado/mapping/voxel_key.hpp"
 
 namespace dorado::mapping {
 
@@ -34,6 +37,10 @@ class LocalMap {
     /// in the map after the update (world frame, in input order).
     Eigen::Matrix3Xd Update(const Eigen::Matrix3Xd &points_world,
                             const Eigen::Vector3d &position_world);
+
+    /// Drops the voxels with these keys (cells of voxel_size_m) and their points: what was seen
+    /// moving there (movers.hpp). Returns the number of points dropped.
+    std::size_t Remove(const std::vector<VoxelKey> &keys);
 
     /// Builds PCL's float copy of the map now (otherwise on the first registration after an
     /// Update).

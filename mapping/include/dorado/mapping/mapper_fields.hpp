@@ -47,6 +47,30 @@ void VisitFields(LocalMapConfig &c, Visitor &&v) {
 }
 
 template <typename Visitor>
+void VisitFields(MoverConfig &c, Visitor &&v) {
+    v("neighbour_radius_m", c.neighbour_radius_m,
+      "points this close to a moving point of the same scan stay out of the map [m] (0: off)");
+    v("memory_s", c.memory_s,
+      "a map cell where something moved holds no point for this long [s] (0: off)");
+    v("min_radial_speed_mps", c.min_radial_speed_mps,
+      "a mask outlier is seen moving when its Doppler is this far from a static point's [m/s]");
+    v("min_cluster_points", c.min_cluster_points,
+      "...and this many such points lie within neighbour_radius_m");
+}
+
+template <typename Visitor>
+void VisitFields(NoiseCalibrationConfig &c, Visitor &&v) {
+    v("enabled", c.enabled,
+      "scale the prior's and the registration's covariances by the innovations (covariance "
+      "matching)");
+    v("window_scans", c.window_scans, "the last scans the scales are estimated over");
+    v("min_scans", c.min_scans, "registered scans before the scales apply");
+    v("max_sample_nees", c.max_sample_nees, "a scan's whitened moment is capped at this x dof");
+    v("min_scale", c.min_scale, "lower bound of a covariance scale");
+    v("max_scale", c.max_scale, "upper bound of a covariance scale");
+}
+
+template <typename Visitor>
 void VisitFields(WindowConfig &c, Visitor &&v) {
     v("size", c.size, "K free states (scans) of the fixed-lag smoother");
     v("qc_linear", c.qc_linear, "white-noise-on-acceleration PSD, linear, per base axis [m^2/s^3]");
@@ -65,6 +89,7 @@ void VisitFields(MapperConfig &c, Visitor &&v) {
     v("scan_voxel_m", c.scan_voxel_m, "voxel of the downsampled scan that is registered [m]");
     v("max_source_points", c.max_source_points, "then evenly thinned to at most this many");
     VisitFields(c.map, Prefixed{"map.", v});
+    VisitFields(c.movers, Prefixed{"movers.", v});
     v("keyframe_distance_m", c.keyframe_distance_m,
       "map updated after this distance [m] (0 and 0: every scan)");
     v("keyframe_angle_deg", c.keyframe_angle_deg, "...or this rotation [deg]");
@@ -97,6 +122,7 @@ void VisitFields(MapperConfig &c, Visitor &&v) {
       "how the registration's residuals count against the prior");
     v("registration_cluster_m", c.registration_cluster_m,
       "cell of the clustered model's groups [m]");
+    VisitFields(c.noise_calibration, Prefixed{"noise_calibration.", v});
     v("registration_floor_sigma_translation_m", c.registration_floor_sigma_translation_m,
       "registration noise no residual shows, added per axis [m]");
     v("registration_floor_sigma_rotation_rad", c.registration_floor_sigma_rotation_rad,

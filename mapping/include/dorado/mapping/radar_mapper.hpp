@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "dorado/core/extrinsics.hpp"
@@ -15,6 +16,8 @@
 #include "dorado/mapping/local_map.hpp"
 #include "dorado/mapping/measurements.hpp"
 #include "dorado/mapping/motion_prior.hpp"
+#include "dorado/mapping/movers.hpp"
+#include "dorado/mapping/noise_calibration.hpp"
 #include "dorado/mapping/window_smoother.hpp"
 
 namespace dorado::mapping {
@@ -53,6 +56,8 @@ struct MapperConfig {
     int max_source_points = 800;  ///< then evenly thinned to at most this many
 
     LocalMapConfig map;
+    /// What else stays out of the map besides the mask's moving points (movers.hpp).
+    MoverConfig movers;
     /// Add a scan to the map only when the vehicle moved this far / turned this much since the
     /// last map update (0 and 0: every scan).
     double keyframe_distance_m = 1.0;
@@ -81,6 +86,9 @@ struct MapperConfig {
     int refine_outer_iterations = 1;  ///< re-associate and refine this many times
     /// How the registration's information is counted against the prior (see the enum).
     RegistrationCovarianceModel registration_covariance = RegistrationCovarianceModel::kClustered;
+    /// The prior's and the registration's covariances scaled by the errors they show
+    /// (noise_calibration.hpp), in the fusion and the registered pose's prior residual.
+    NoiseCalibrationConfig noise_calibration;
     double registration_cluster_m = 4.0;  ///< cell of the clustered model's groups
     WindowConfig window;                  ///< refinement = kWindow
 
@@ -201,6 +209,15 @@ struct RegistrationResult {
     /// filter, 3-D, registered, and consistent with the prior).
     bool ground_used = false;
     bool map_updated = false;
+    /// Points of the scan that the mask called static but the mover rules kept out (near a
+    /// moving point, or in a cell where something moved recently: movers.hpp), and the map
+    /// points dropped from cells seen moving in this scan.
+    int mover_points_dropped = 0;
+    int map_points_dropped = 0;
+    /// The online noise calibration's scales after this scan (noise_calibration.hpp).
+    NoiseScales noise_scales;
+    /// Per scan point: true when the mover rules kept it out (mover_points_dropped of them).
+    Eigen::Array<bool, Eigen::Dynamic, 1> mover_dropped;
     /// The points this scan added to the mapper's map, world frame, placed at the pose the map is
     /// built from (the registered pose with refinement ceres and filter, the output with none,
     /// window and filter + filter_builds_map):
@@ -210,8 +227,27 @@ struct RegistrationResult {
     StageTimes times;
 };
 
-/// An optional per-point flag: true = static (keep). Same length as the scan.
+/// A per-point flag, same length as the scan.
 using PointMask = Eigen::Array<bool, Eigen::Dynamic, 1>;
+
+/// One scan's inputs besides its points.
+struct MapperInput {
+    MotionPrior prior;
+    /// Time since the previous registered scan [s] (the interval over which the Doppler
+    /// residuals compare the pose's velocity); ignored on the first scan.
+    double dt_s = 0.0;
+    /// true = static: only these points are registered, used as Doppler residuals and added to
+    /// the map. Empty: every point.
+    PointMask static_mask;
+    /// true = seen moving (the Doppler mask's outliers): kept out with their neighbours and
+    /// remembered in the map (movers.hpp). Empty: none.
+    PointMask moving_mask;
+    /// The interval's mean gyro rate in the base frame (the window smoother's gyro factor).
+    std::optional<Eigen::Vector3d> gyro_base_radps;
+    /// The road's up-vector seen in this scan: holds the refined poses' roll and pitch with
+    /// refinement ceres and filter in 3-D.
+    std::optional<GroundUp> ground_base;
+};
 
 class RadarMapper {
   public:
@@ -235,6 +271,9 @@ class RadarMapper {
                                 const PointMask *static_mask = nullptr,
                                 const Eigen::Vector3d *gyro_base_radps = nullptr,
                                 const GroundUp *ground_base = nullptr);
+    /// Registers one scan (radar frame) with its inputs. Throws std::invalid_argument on a mask
+    /// of the wrong size, a non-finite dt or prior.
+    RegistrationResult Register(const RadarScan &scan_radar, const MapperInput &input);
 
     [[nodiscard]] const LocalMap &local_map() const;
     [[nodiscard]] const MapperConfig &config() const;
