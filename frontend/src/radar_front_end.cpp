@@ -122,6 +122,46 @@ struct RadarFrontEnd::State {
     int64_t last_stamp_ns = 0;
     // The previous scan's Doppler twist, when it was a measurement (the trapezoid prior).
     std::optional<mapping::BaseTwist> last_twist;
+    // The last twist that passed the continuity test, and the time since it [s].
+    std::optional<mapping::BaseTwist> last_plausible_twist;
+    double since_plausible_s = 0.0;
+
+    // Whether this scan's Doppler twist is continuous with the last plausible one: the change
+    // within the twists' covariances plus the constvel prior's accelerations over the time
+    // between them (chi^2 at 99.9 % per 3-dof block; the v block alone with the gyro's rotation,
+    // imu+doppler).
+    // A RANSAC that locked onto a crowd moving with the vehicle jumps by metres per second in one
+    // scan. After a second of refusals the twist is taken again (the vehicle did change).
+    bool TwistIsContinuous(const odometry::OdometryStep &step) {
+        const mapping::BaseTwist twist = PriorTwist(step);
+        const bool fresh = !last_plausible_twist || since_plausible_s + step.dt_s > 1.0;
+        if (!fresh) {
+            const mapping::BaseTwist &last = *last_plausible_twist;
+            const double dt = since_plausible_s + step.dt_s;
+            const mapping::PriorNoiseConfig &noise = config.prior_noise;
+            const Eigen::Vector3d dv = twist.v_base_mps - last.v_base_mps;
+            const Eigen::Matrix3d Cv =
+                twist.cov_v_base + last.cov_v_base +
+                Eigen::Matrix3d::Identity() * std::pow(noise.constvel_sigma_accel_mps2 * dt, 2);
+            double chi2 = dv.dot(Cv.ldlt().solve(dv));
+            if (config.prior == mapping::PriorKind::kDoppler) {
+                const Eigen::Vector3d dw = twist.omega_base_radps - last.omega_base_radps;
+                const Eigen::Matrix3d Cw =
+                    twist.cov_omega_base + last.cov_omega_base +
+                    Eigen::Matrix3d::Identity() *
+                        std::pow(noise.constvel_sigma_angular_accel_radps2 * dt, 2);
+                chi2 = std::max(chi2, dw.dot(Cw.ldlt().solve(dw)));
+            }
+            constexpr double kGate = 16.27;  // chi^2(3) at 99.9 %, each block
+            if (!(chi2 <= kGate)) {
+                since_plausible_s += step.dt_s;
+                return false;
+            }
+        }
+        last_plausible_twist = twist;
+        since_plausible_s = 0.0;
+        return true;
+    }
 
     // Hands the registered pose's yaw to the calibrator; its new estimate drives the next scans.
     void CalibrateYawLever(FrontEndResult &result);
@@ -188,6 +228,8 @@ mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometrySt
             // velocity, an implausible angular rate) is not a measurement: substitute.
             if (step.fallback_cause == odometry::FallbackCause::kInvalidVelocity) {
                 why_not = Cause(step.ego.reason);
+            } else if (result.doppler_twist_discontinuous) {
+                why_not = "doppler: twist discontinuous with the previous one";
             } else if (step.fallback_cause == odometry::FallbackCause::kAngularRateLimit) {
                 why_not = "doppler: angular rate above max_angular_rate_radps";
             } else if (step.fallback_cause == odometry::FallbackCause::kNoImuSamples) {
@@ -291,9 +333,15 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
     }
     result.times.doppler_ms = MillisecondsSince(t_start);
 
-    // 2-3. The prior, then registration, refinement and map update.
+    // 2-3. The prior, then registration, refinement and map update. A Doppler twist that jumps
+    //      (RANSAC on a crowd moving with the vehicle) is neither the prior nor its mask's source.
+    if (s.mapper && mapping::NeedsDoppler(s.config.prior) && step.ego.valid &&
+        step.fallback_cause == odometry::FallbackCause::kNone && s.scans_since_reset > 0)
+        result.doppler_twist_discontinuous = !s.TwistIsContinuous(step);
     const mapping::PointMask *mask =
-        s.config.use_mask && step.ego.valid ? &result.static_mask : nullptr;
+        s.config.use_mask && step.ego.valid && !result.doppler_twist_discontinuous
+            ? &result.static_mask
+            : nullptr;
     if (s.mapper) {
         const auto t_prior = Clock::now();
         const double dt_s = s.scans_since_reset == 0 ? mapping::kFirstScanIntervalS : step.dt_s;
@@ -345,7 +393,8 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
     s.T_prev2 = s.T_prev;
     s.T_prev = result.T_world_base;
     s.last_dt_s = s.scans_since_reset == 0 ? 0.0 : step.dt_s;
-    if (step.fallback_cause == odometry::FallbackCause::kNone)
+    if (step.fallback_cause == odometry::FallbackCause::kNone &&
+        !result.doppler_twist_discontinuous)
         s.last_twist = PriorTwist(step);
     else
         s.last_twist.reset();
@@ -369,6 +418,8 @@ void RadarFrontEnd::Reset(const Eigen::Isometry3d &T_world_base) {
     s.last_dt_s = 0.0;
     s.has_last = false;
     s.last_twist.reset();
+    s.last_plausible_twist.reset();
+    s.since_plausible_s = 0.0;
     // The trajectory keeps its poses: stamps stay increasing across a reset.
 }
 

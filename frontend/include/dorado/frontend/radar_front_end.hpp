@@ -83,6 +83,10 @@ struct FrontEndResult {
     mapping::PriorKind prior_used = mapping::PriorKind::kDoppler;
     bool prior_first_scan = false;
     std::string prior_substitution;
+    /// The Doppler twist jumped against the last continuous one (beyond the twists' covariances
+    /// and the constvel prior's accelerations): the doppler priors substitute constvel and the
+    /// scan is registered without the Doppler mask (its static set is suspect).
+    bool doppler_twist_discontinuous = false;
     /// The prior handed to the mapper (when run_mapper).
     mapping::MotionPrior prior;
     /// The mapper's result (when run_mapper): fallback, correspondences, fitness, the points it
