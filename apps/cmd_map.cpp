@@ -77,7 +77,7 @@ void RunMap(const MapOptions &opt) {
     const std::size_t expected = CountRadarMessages(dataset, needs_imu, "--prior " + opt.prior);
     auto reader = io::OpenDataset(dataset);
     Progress progress("map", expected);
-    MapOutputs outputs;
+    MapOutputs outputs(config.mapper.map.voxel_size_m);
     ScanLoop loop(front_end);
     StreamGuard guard;  // Ctrl-C or a reader error mid-stream: stop, write what was done
     loop.Run(*reader, guard, progress,

@@ -40,12 +40,13 @@ nlohmann::json TimeStatistics(std::vector<double> values_ms) {
     return {{"mean", mean}, {"median", values_ms[values_ms.size() / 2]}, {"p95", at(0.95)}};
 }
 
-MapOutputs::MapOutputs() : csv_(kCsvHeader) {}
+MapOutputs::MapOutputs(double map_cell_m) : csv_(kCsvHeader), map_cell_m_(map_cell_m) {}
 
 Eigen::Matrix3Xd MapOutputs::MapPoints() const {
-    Eigen::Matrix3Xd points(3, static_cast<Eigen::Index>(map_points_world_.size()));
-    for (std::size_t i = 0; i < map_points_world_.size(); ++i)
-        points.col(static_cast<Eigen::Index>(i)) = map_points_world_[i];
+    Eigen::Matrix3Xd points(3, static_cast<Eigen::Index>(map_point_count_));
+    Eigen::Index n = 0;
+    for (const auto &[key, cell] : map_points_world_)
+        for (const Eigen::Vector3d &p : cell) points.col(n++) = p;
     return points;
 }
 
@@ -53,7 +54,16 @@ void MapOutputs::Add(const frontend::FrontEndResult &result) {
     const mapping::RegistrationResult &r = result.registration;
     const frontend::FrontEndTimes &t = result.times;
     const Eigen::Matrix3Xd &added = r.map_points_added_world;
-    for (Eigen::Index i = 0; i < added.cols(); ++i) map_points_world_.push_back(added.col(i));
+    for (const mapping::VoxelKey &key : r.map_cells_dropped) {
+        const auto it = map_points_world_.find(key);
+        if (it == map_points_world_.end()) continue;
+        map_point_count_ -= it->second.size();
+        map_points_world_.erase(it);
+    }
+    for (Eigen::Index i = 0; i < added.cols(); ++i) {
+        map_points_world_[mapping::VoxelKeyOf(added.col(i), map_cell_m_)].push_back(added.col(i));
+        ++map_point_count_;
+    }
     covariances_.Add(result);
     positions_.push_back(result.T_world_base.translation());
     if (first_stamp_ns_ < 0) first_stamp_ns_ = result.stamp_ns;
@@ -150,7 +160,7 @@ nlohmann::json MapOutputs::Summary() const {
                                    : nlohmann::json{{"s_x_m", yaw_calibration_.s_x_m},
                                                     {"sigma_s_x_m", yaw_calibration_.sigma_s_x_m},
                                                     {"scans_by_status", yaw_calibration_counts_}}},
-        {"map_points", map_points_world_.size()},
+        {"map_points", map_point_count_},
         {"local_map_points_max", max_local_map_points_}};
 }
 

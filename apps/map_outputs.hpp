@@ -8,6 +8,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "covariance_table.hpp"
@@ -17,7 +18,8 @@ namespace dorado::apps {
 
 class MapOutputs {
   public:
-    MapOutputs();
+    /// map_cell_m: the mapper's map.voxel_size_m (the cells it may empty).
+    explicit MapOutputs(double map_cell_m = 1.0);
 
     /// Records one accepted scan.
     void Add(const frontend::FrontEndResult &result);
@@ -36,7 +38,11 @@ class MapOutputs {
     [[nodiscard]] Eigen::Matrix3Xd MapPoints() const;
 
   private:
-    std::vector<Eigen::Vector3d> map_points_world_;  ///< the mapper's additions, in order
+    /// The mapper's additions by map cell, less the cells it emptied (movers): its map as it was.
+    std::unordered_map<mapping::VoxelKey, std::vector<Eigen::Vector3d>, mapping::VoxelKeyHash>
+        map_points_world_;
+    std::size_t map_point_count_ = 0;
+    double map_cell_m_ = 1.0;
     std::vector<Eigen::Vector3d> positions_;
     std::string csv_;
     CovarianceTable covariances_;

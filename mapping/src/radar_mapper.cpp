@@ -483,6 +483,7 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Mapp
     result.mover_dropped = points.mover_dropped;
     result.mover_points_dropped = static_cast<int>(points.mover_dropped.count());
     result.map_points_dropped = static_cast<int>(s.map.Remove(moving_cells));
+    if (result.map_points_dropped > 0) result.map_cells_dropped = std::move(moving_cells);
     const Eigen::Matrix3Xd source_base =
         ThinColumns(VoxelDownsample(points.p_base, config.scan_voxel_m), config.max_source_points);
     result.source_points = static_cast<int>(source_base.cols());

@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "covariance_table.hpp"
 #include "dorado/core/lie.hpp"
 #include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/testing/street_scene.hpp"
-#include "covariance_table.hpp"
 #include "map_outputs.hpp"
 
 namespace dorado::apps {
@@ -60,7 +60,7 @@ void RunDrive(mapping::Refinement refinement, Eigen::Matrix3Xd &pcd_points,
     std::mt19937 rng(7);
     RadarSimOptions sim;
     sim.points_per_scan = 1500;
-    MapOutputs outputs;
+    MapOutputs outputs(config.mapper.map.voxel_size_m);
     int fallbacks = 0;
     for (int k = 0; k < 60; ++k) {
         RadarScan scan = SimulateScan(world, truth[k].T_world_base, Mount().T_base_radar,

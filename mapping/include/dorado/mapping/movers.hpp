@@ -25,7 +25,7 @@ namespace dorado::mapping {
 
 struct MoverConfig {
     /// Points this close to a point flagged moving in the same scan are dropped too [m] (0: off).
-    double neighbour_radius_m = 1.0;
+    double neighbour_radius_m = 0.0;
     /// A cell where a moving point was seen stays out of the map this long [s] (0: off).
     double memory_s = 2.0;
     /// A mask outlier is seen moving only when its Doppler is this far from a static point's

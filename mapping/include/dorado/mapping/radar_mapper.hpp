@@ -214,6 +214,9 @@ struct RegistrationResult {
     /// points dropped from cells seen moving in this scan.
     int mover_points_dropped = 0;
     int map_points_dropped = 0;
+    /// The map cells (map.voxel_size_m) emptied because something moved there: an output map
+    /// that accumulates map_points_added_world drops its points in them too.
+    std::vector<VoxelKey> map_cells_dropped;
     /// The online noise calibration's scales after this scan (noise_calibration.hpp).
     NoiseScales noise_scales;
     /// Per scan point: true when the mover rules kept it out (mover_points_dropped of them).
