@@ -26,20 +26,18 @@ struct MapOptions {
 // points the mover rules kept out although the Doppler called them static).
 void WriteMapMask(const std::string &out_dir, std::size_t scan_index,
                   const frontend::FrontEndResult &r) {
-    char name[32];
-    std::snprintf(name, sizeof(name), "/masks/%06zu.txt", scan_index);
     const mapping::PointMask &dropped = r.registration.mover_dropped;
-    io::WriteFileAtomically(out_dir + name, [&](std::ostream &os) {
-        os << "# stamp_ns " << r.stamp_ns << ", one label per point in input order: "
-           << "0 static, 1 dynamic, 2 filtered, 3 kept out as a mover's (near a moving point or "
-              "where something moved)\n";
-        const auto &labels = r.odometry.ego.labels;
-        for (std::size_t i = 0; i < labels.size(); ++i) {
-            const bool mover = static_cast<Eigen::Index>(i) < dropped.size() &&
-                               dropped(static_cast<Eigen::Index>(i));
-            os << (mover ? 3 : static_cast<int>(labels[i])) << '\n';
-        }
-    });
+    std::vector<int> labels;
+    labels.reserve(r.odometry.ego.labels.size());
+    for (std::size_t i = 0; i < r.odometry.ego.labels.size(); ++i) {
+        const auto k = static_cast<Eigen::Index>(i);
+        labels.push_back(
+            k < dropped.size() && dropped(k) ? 3 : static_cast<int>(r.odometry.ego.labels[i]));
+    }
+    WriteMaskFile(out_dir, scan_index, r.stamp_ns,
+                  "0 static, 1 dynamic, 2 filtered, 3 kept out as a mover's (near a moving point "
+                  "or where something moved)",
+                  labels);
 }
 
 // The front end's settings from the flags and the two YAML files.

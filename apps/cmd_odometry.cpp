@@ -91,13 +91,10 @@ std::string CsvRow(const odometry::OdometryStep &step, Eigen::Index points,
 
 void WriteMask(const std::string &out_dir, std::size_t scan_index,
                const odometry::OdometryStep &step) {
-    char name[32];
-    std::snprintf(name, sizeof(name), "/masks/%06zu.txt", scan_index);
-    io::WriteFileAtomically(out_dir + name, [&](std::ostream &os) {
-        os << "# stamp_ns " << step.stamp_ns << ", one label per point in input order: "
-           << "0 static, 1 dynamic, 2 filtered\n";
-        for (const auto label : step.ego.labels) os << static_cast<int>(label) << '\n';
-    });
+    std::vector<int> labels;
+    labels.reserve(step.ego.labels.size());
+    for (const auto label : step.ego.labels) labels.push_back(static_cast<int>(label));
+    WriteMaskFile(out_dir, scan_index, step.stamp_ns, "0 static, 1 dynamic, 2 filtered", labels);
 }
 
 nlohmann::json Stats(std::vector<double> v) {

@@ -109,13 +109,13 @@ void MapOutputs::Add(const frontend::FrontEndResult &result) {
         csv_ += ",,";
     }
     csv_ += std::string(odometry::ToString(yaw.status)) + ',' +
-            std::to_string(r.mover_points_dropped) + ',' + std::to_string(r.map_points_dropped);
+            std::to_string(r.mover_points_dropped()) + ',' + std::to_string(r.map_points_dropped);
     const mapping::NoiseScales &scales = r.noise_scales;
     std::snprintf(row, sizeof(row), ",%.4g,%.4g,%.4g,%.4g\n", scales.prior(0), scales.prior(1),
                   scales.registration(0), scales.registration(1));
     csv_ += row;
     noise_scales_ = scales;
-    mover_points_dropped_ += r.mover_points_dropped;
+    mover_points_dropped_ += r.mover_points_dropped();
     map_points_dropped_ += r.map_points_dropped;
     max_local_map_points_ = std::max(max_local_map_points_, r.local_map_points);
 }

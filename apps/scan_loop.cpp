@@ -86,6 +86,17 @@ nlohmann::json ReportRadarsUsed(const io::DatasetConfig &dataset, const std::str
             {"radars_used", nlohmann::json::array({dataset.folder.scans_dir})}};
 }
 
+void WriteMaskFile(const std::string &out_dir, std::size_t scan_index, int64_t stamp_ns,
+                   const std::string &legend, const std::vector<int> &labels) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "/masks/%06zu.txt", scan_index);
+    io::WriteFileAtomically(out_dir + name, [&](std::ostream &os) {
+        os << "# stamp_ns " << stamp_ns << ", one label per point in input order: " << legend
+           << '\n';
+        for (const int label : labels) os << label << '\n';
+    });
+}
+
 void AddStreamCounts(const ScanLoop &loop, nlohmann::json &summary) {
     summary["skip_reasons"] = loop.skips().Counts();
     summary["skipped"] = loop.skips().Scans();

@@ -5,9 +5,11 @@
 /// a finite point and gaps (used, warned), NaN/Inf points removed.
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/io/dataset.hpp"
@@ -56,6 +58,10 @@ class ScanLoop {
 /// record of it ({"radars_listed": N, "radars_used": [...]}); null for a one-radar dataset.
 nlohmann::json ReportRadarsUsed(const io::DatasetConfig &dataset, const std::string &arg,
                                 const std::string &command);
+/// Writes out_dir/masks/NNNNNN.txt (NNNNNN = scan_index): a header naming the stamp and `legend`
+/// (what each label means), then one label per point in input order.
+void WriteMaskFile(const std::string &out_dir, std::size_t scan_index, int64_t stamp_ns,
+                   const std::string &legend, const std::vector<int> &labels);
 /// Adds the loop's skip and warning lists and counts to summary.json.
 void AddStreamCounts(const ScanLoop &loop, nlohmann::json &summary);
 /// Writes out_dir/summary.json atomically.

@@ -139,19 +139,20 @@ struct RadarFrontEnd::State {
             const mapping::BaseTwist &last = *last_plausible_twist;
             const double dt = since_plausible_s + step.dt_s;
             const mapping::PriorNoiseConfig &noise = config.prior_noise;
-            const Eigen::Vector3d dv = twist.v_base_mps - last.v_base_mps;
-            const Eigen::Matrix3d Cv =
-                twist.cov_v_base + last.cov_v_base +
-                Eigen::Matrix3d::Identity() * std::pow(noise.constvel_sigma_accel_mps2 * dt, 2);
-            double chi2 = dv.dot(Cv.ldlt().solve(dv));
-            if (config.prior == mapping::PriorKind::kDoppler) {
-                const Eigen::Vector3d dw = twist.omega_base_radps - last.omega_base_radps;
-                const Eigen::Matrix3d Cw =
-                    twist.cov_omega_base + last.cov_omega_base +
-                    Eigen::Matrix3d::Identity() *
-                        std::pow(noise.constvel_sigma_angular_accel_radps2 * dt, 2);
-                chi2 = std::max(chi2, dw.dot(Cw.ldlt().solve(dw)));
-            }
+            // One block's change against both twists' covariances plus an acceleration over dt.
+            const auto chi2_of = [dt](const Eigen::Vector3d &d, const Eigen::Matrix3d &C,
+                                      double sigma_accel) {
+                const Eigen::Matrix3d S =
+                    C + Eigen::Matrix3d::Identity() * std::pow(sigma_accel * dt, 2);
+                return d.dot(S.ldlt().solve(d));
+            };
+            double chi2 =
+                chi2_of(twist.v_base_mps - last.v_base_mps, twist.cov_v_base + last.cov_v_base,
+                        noise.constvel_sigma_accel_mps2);
+            if (config.prior == mapping::PriorKind::kDoppler)
+                chi2 = std::max(chi2, chi2_of(twist.omega_base_radps - last.omega_base_radps,
+                                              twist.cov_omega_base + last.cov_omega_base,
+                                              noise.constvel_sigma_angular_accel_radps2));
             constexpr double kGate = 16.27;  // chi^2(3) at 99.9 %, each block
             if (!(chi2 <= kGate)) {
                 since_plausible_s += step.dt_s;

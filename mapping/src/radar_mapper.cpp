@@ -410,12 +410,14 @@ MapRegistration RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source
 
     // Covariance matching: PCL's pose (the registration alone, started at the prior) against the
     // prior, each with its model's covariance; then both weighed by the scales learnt so far.
-    const auto loss = MakeLoss(config.kernel, config.kernel_scale);
-    const RegisteredPose alone =
-        RegistrationCovariance(aligned.T_world_base, out.association.matches, loss.get(), config);
-    if (alone.valid && alone.weak_directions == 0)
-        noise.Add(LogSE3(prior_map.T_world_base.inverse() * aligned.T_world_base),
-                  prior_map.covariance, alone.covariance);
+    if (noise.enabled()) {
+        const auto loss = MakeLoss(config.kernel, config.kernel_scale);
+        const RegisteredPose alone = RegistrationCovariance(
+            aligned.T_world_base, out.association.matches, loss.get(), config);
+        if (alone.valid && alone.weak_directions == 0)
+            noise.Add(LogSE3(prior_map.T_world_base.inverse() * aligned.T_world_base),
+                      prior_map.covariance, alone.covariance);
+    }
     const NoiseScales &scales = noise.scales();
     MotionPrior prior_map_scaled = prior_map, prior_scaled = prior;
     prior_map_scaled.covariance = ScaleBlocks(prior_map.covariance, scales.prior);
@@ -481,7 +483,6 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Mapp
         SelectScanPoints(scan_radar, input, prior_map.T_world_base, s.extrinsics.T_base_radar,
                          config, s.movers, s.time_s, moving_cells);
     result.mover_dropped = points.mover_dropped;
-    result.mover_points_dropped = static_cast<int>(points.mover_dropped.count());
     result.map_points_dropped = static_cast<int>(s.map.Remove(moving_cells));
     if (result.map_points_dropped > 0) result.map_cells_dropped = std::move(moving_cells);
     const Eigen::Matrix3Xd source_base =

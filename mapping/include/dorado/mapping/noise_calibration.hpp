@@ -61,6 +61,8 @@ class NoiseCalibration {
     /// The current scales (all 1 before min_scans samples, or when disabled).
     [[nodiscard]] const NoiseScales &scales() const { return scales_; }
     [[nodiscard]] int samples() const { return samples_; }
+    /// Whether Add learns anything (config enabled): callers skip computing its inputs otherwise.
+    [[nodiscard]] bool enabled() const { return config_.enabled; }
 
   private:
     struct Sample {

@@ -209,18 +209,19 @@ struct RegistrationResult {
     /// filter, 3-D, registered, and consistent with the prior).
     bool ground_used = false;
     bool map_updated = false;
-    /// Points of the scan that the mask called static but the mover rules kept out (near a
-    /// moving point, or in a cell where something moved recently: movers.hpp), and the map
-    /// points dropped from cells seen moving in this scan.
-    int mover_points_dropped = 0;
+    /// The map points dropped from cells seen moving in this scan.
     int map_points_dropped = 0;
     /// The map cells (map.voxel_size_m) emptied because something moved there: an output map
     /// that accumulates map_points_added_world drops its points in them too.
     std::vector<VoxelKey> map_cells_dropped;
     /// The online noise calibration's scales after this scan (noise_calibration.hpp).
     NoiseScales noise_scales;
-    /// Per scan point: true when the mover rules kept it out (mover_points_dropped of them).
+    /// Per scan point: true when the mask called it static but the mover rules kept it out (near
+    /// a moving point, or in a cell where something moved recently: movers.hpp).
     Eigen::Array<bool, Eigen::Dynamic, 1> mover_dropped;
+    [[nodiscard]] int mover_points_dropped() const {
+        return static_cast<int>(mover_dropped.count());
+    }
     /// The points this scan added to the mapper's map, world frame, placed at the pose the map is
     /// built from (the registered pose with refinement ceres and filter, the output with none,
     /// window and filter + filter_builds_map):
