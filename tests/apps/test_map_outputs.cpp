@@ -52,6 +52,7 @@ void RunDrive(mapping::Refinement refinement, Eigen::Matrix3Xd &pcd_points,
     frontend::FrontEndConfig config;
     config.mapper.refinement = refinement;
     config.mapper.map.max_distance_m = 1e6;  // never cropped: the whole run is still in the map
+    config.mapper.movers.memory_s = 2.0;     // cells emptied by the mover memory leave map.pcd too
     VehicleGeometry geometry;
     geometry.half_wheelbase_m = 1.4;
     frontend::RadarFrontEnd front_end(config, Mount(), geometry);

@@ -206,7 +206,7 @@ TEST(RadarMapper, MaskKeepsTheMovingCarOutOfTheMap) {
 TEST(RadarMapper, MoverRulesKeepALeakilyMaskedCarOutOfTheMap) {
     MapperConfig config;
     config.refinement = Refinement::kNone;
-    config.movers.neighbour_radius_m = 1.0;  // both rules (the default is the memory alone)
+    config.movers.neighbour_radius_m = 1.0;  // both rules (each is off by default)
     config.movers.memory_s = 2.0;
     MapperConfig off = config;
     off.movers.neighbour_radius_m = 0.0;

@@ -27,7 +27,7 @@ struct MoverConfig {
     /// Points this close to a point flagged moving in the same scan are dropped too [m] (0: off).
     double neighbour_radius_m = 0.0;
     /// A cell where a moving point was seen stays out of the map this long [s] (0: off).
-    double memory_s = 2.0;
+    double memory_s = 0.0;
     /// A mask outlier is seen moving only when its Doppler is this far from a static point's
     /// [m/s] (the front end's test, after unwrapping an aliased Doppler).
     double min_radial_speed_mps = 0.5;
