@@ -137,8 +137,7 @@ void RunDopplerSign(const CalibrateOptions &opt, const io::DatasetConfig &datase
     try {
         c = odometry::CompareWithImu(velocities, imu, dataset.extrinsics, config);
     } catch (const std::invalid_argument &e) {
-        throw io::DatasetError(dataset.rosbag.path + " (rosbag.imu_topic " +
-                               dataset.rosbag.imu_topic + "): " + e.what());
+        throw io::DatasetError(ImuSource(dataset) + ": " + e.what());
     }
     if (c.doppler_sign == 0)
         throw io::DatasetError(dataset.rosbag.path + ": no " + std::to_string(opt.window_s) +
@@ -177,15 +176,14 @@ void RunDopplerSign(const CalibrateOptions &opt, const io::DatasetConfig &datase
 void RunCalibrate(const CalibrateOptions &opt) {
     const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset);
     if (opt.step == "doppler-sign") {
-        if (!HasImuTopic(dataset))
-            throw io::ConfigError(opt.dataset +
-                                  ": key 'rosbag.imu_topic': doppler-sign needs an IMU");
+        if (!HasImu(dataset))
+            throw io::ConfigError(opt.dataset + ": key '" + ImuKey(dataset) +
+                                  "': doppler-sign needs an IMU");
         return RunDopplerSign(opt, dataset);
     }
-    if (opt.step == "sx" &&
-        (dataset.reader != io::ReaderKind::kRosbag || dataset.rosbag.imu_topic.empty()))
-        throw io::ConfigError(opt.dataset +
-                              ": key 'rosbag.imu_topic': s_x calibration needs an IMU");
+    if (opt.step == "sx" && !HasImu(dataset))
+        throw io::ConfigError(opt.dataset + ": key '" + ImuKey(dataset) +
+                              "': s_x calibration needs an IMU");
     const Samples samples = Collect(opt, dataset);
     std::fprintf(stderr,
                  "calibrate %s: %zu scans, %zu used, %zu rejected (invalid or slower than "
@@ -212,10 +210,10 @@ void RunCalibrate(const CalibrateOptions &opt) {
             yaw.push_back(samples.gyro_base[i].z());
         }
         if (v_s.empty() && !samples.v_radar.empty())
-            throw io::DatasetError(
-                dataset.rosbag.path + ": no gyro sample between the usable scans (" +
-                std::to_string(samples.imu_samples) + " messages on '" + dataset.rosbag.imu_topic +
-                "', key rosbag.imu_topic): s_x calibration needs the IMU's yaw rate");
+            throw io::DatasetError(ImuSource(dataset) +
+                                   ": no gyro sample between the usable scans (" +
+                                   std::to_string(samples.imu_samples) +
+                                   " IMU samples): s_x calibration needs the IMU's yaw rate");
         const auto c = odometry::CalibrateSx(v_s, yaw);
         T.translation().x() = c.s_x_m;
         comment << "# dorado calibrate sx: s_x = " << c.s_x_m << " +- " << c.sigma_m << " m from "

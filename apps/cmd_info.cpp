@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "commands.hpp"
+#include "dorado/core/angles.hpp"
 #include "dorado/core/time.hpp"
 #include "dorado/io/dataset.hpp"
 #include "dorado/io/folder_layout.hpp"
@@ -59,11 +60,38 @@ void PrintTopics(const std::vector<io::TopicSummary> &topics, const io::DatasetC
             span_s > 0 && t.messages > 1 ? static_cast<double>(t.messages - 1) / span_s : 0.0;
         std::string role;
         if (t.topic == config.rosbag.radar_topic) role = "  <- radar";
-        if (t.topic == config.rosbag.imu_topic) role = "  <- imu";
+        if (t.topic == config.rosbag.imu_topic || t.topic == config.imu.path) role = "  <- imu";
         if (t.topic == config.rosbag.ground_truth_topic) role = "  <- ground truth";
         std::printf("  %-32s %-28s %7zu msgs %8.2f s %7.2f Hz%s\n", t.topic.c_str(), t.type.c_str(),
                     t.messages, span_s, rate, role.c_str());
         if (!t.fields.empty()) std::printf("      fields: %s\n", t.fields.c_str());
+    }
+}
+
+// The `radars:` list (several radars on one vehicle): each one's mount and scans.
+void PrintRadars(const io::DatasetConfig &config, ProblemLog &problems) {
+    if (config.radars.empty()) return;
+    std::printf("radars: %zu (the radars: list; dorado twist reads them all)\n",
+                config.radars.size());
+    for (std::size_t k = 0; k < config.radars.size(); ++k) {
+        const io::RadarStream &radar = config.radars[k];
+        const Eigen::Vector3d t = radar.T_base_radar.translation();
+        const Eigen::Matrix3d R = radar.T_base_radar.linear();
+        const double yaw_deg = RadToDeg(std::atan2(R(1, 0), R(0, 0)));
+        std::printf("  %-12s mount x %6.3f y %6.3f z %5.2f m, yaw %8.3f deg", radar.name.c_str(),
+                    t.x(), t.y(), t.z(), yaw_deg);
+        try {
+            const auto topics = io::ListTopics(io::ForRadar(config, k));
+            const io::TopicSummary &scans = topics.front();
+            const double span_s = NanosToSeconds(scans.last_ns - scans.first_ns);
+            std::printf(", %zu scans, %.2f s, %.2f Hz\n", scans.messages, span_s,
+                        span_s > 0 && scans.messages > 1
+                            ? static_cast<double>(scans.messages - 1) / span_s
+                            : 0.0);
+        } catch (const std::exception &e) {
+            std::printf(", unreadable\n");
+            problems.Add("radars that cannot be read", radar.name + ": " + e.what());
+        }
     }
 }
 
@@ -99,7 +127,8 @@ int RunInfo(const std::string &dataset_arg) {
     PrintTopics(topics, config);
     std::size_t expected_scans = 0;
     for (const auto &t : topics) {
-        if (!is_bag || t.topic == config.rosbag.radar_topic) expected_scans = t.messages;
+        if (is_bag ? t.topic == config.rosbag.radar_topic : t.topic != config.imu.path)
+            expected_scans = t.messages;
     }
 
     auto reader = io::OpenDataset(config);
@@ -120,7 +149,8 @@ int RunInfo(const std::string &dataset_arg) {
     // As the front end pairs them: the IMU samples that arrived before a scan, stamped in its
     // interval (previous scan, scan]. None there = no gyro rotation for that scan.
     ImuWindow imu_window;
-    const bool has_imu_topic = is_bag && !config.rosbag.imu_topic.empty();
+    const bool has_imu_topic =
+        (is_bag && !config.rosbag.imu_topic.empty()) || !config.imu.path.empty();
     int64_t first_ns = 0, last_ns = 0, last_imu_ns = INT64_MIN;
     double min_doppler = 0.0, max_doppler = 0.0;
     std::size_t scans_with_points = 0, planar_scans = 0;  // every z exactly 0: a 2D radar's
@@ -242,7 +272,7 @@ int RunInfo(const std::string &dataset_arg) {
             }
         }
     }
-    if (!config.rosbag.imu_topic.empty() || imu > 0) std::printf("imu samples: %zu\n", imu);
+    if (has_imu_topic || imu > 0) std::printf("imu samples: %zu\n", imu);
     if (gt > 0) std::printf("ground-truth poses in the bag: %zu\n", gt);
     if (config.reader == io::ReaderKind::kRadarScenes ||
         config.reader == io::ReaderKind::kNuScenes) {
@@ -253,6 +283,7 @@ int RunInfo(const std::string &dataset_arg) {
                                        reference->poses().front().stamp_ns),
                         reference->PathLength());
     }
+    PrintRadars(config, problems);
     problems.Print();
     return 0;
 }

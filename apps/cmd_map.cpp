@@ -63,10 +63,9 @@ void RunMap(const MapOptions &opt) {
     frontend::FrontEndConfig config = FrontEndConfigOf(opt, map_config);
     config.odometry.ego_velocity.sensor = dataset.radar;  // the radar: noise, ambiguity
     const bool needs_imu = mapping::NeedsImu(config.prior);
-    if (needs_imu && !HasImuTopic(dataset))
-        throw io::ConfigError(DatasetFile(dataset, opt.dataset) +
-                              ": key 'rosbag.imu_topic': --prior " + opt.prior +
-                              " needs an IMU topic");
+    if (needs_imu && !HasImu(dataset))
+        throw io::ConfigError(DatasetFile(dataset, opt.dataset) + ": key '" + ImuKey(dataset) +
+                              "': --prior " + opt.prior + " needs an IMU");
     const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "map");
     frontend::RadarFrontEnd front_end(config, dataset.extrinsics, dataset.vehicle);
     io::MakeDirectories(opt.out);

@@ -129,10 +129,9 @@ void RunOdometry(const OdometryOptions &opt) {
         config.odometry.method = dorado::config::ParseOdometryMethodKey(opt.method, "--method");
     const odometry::OdometryMethod method = config.odometry.method;
     const bool needs_imu = odometry::NeedsImu(method);
-    if (needs_imu && !HasImuTopic(dataset)) {
-        throw io::ConfigError(DatasetFile(dataset, opt.dataset) +
-                              ": key 'rosbag.imu_topic': rotation from the IMU needs an "
-                              "IMU topic in the dataset description");
+    if (needs_imu && !HasImu(dataset)) {
+        throw io::ConfigError(DatasetFile(dataset, opt.dataset) + ": key '" + ImuKey(dataset) +
+                              "': rotation from the IMU needs an IMU in the dataset description");
     }
     config.odometry.ego_velocity.sensor = dataset.radar;  // the radar: noise, ambiguity
     frontend::RadarFrontEnd front_end(config, dataset.extrinsics, dataset.vehicle);

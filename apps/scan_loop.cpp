@@ -62,8 +62,19 @@ void ScanLoop::Warn(const io::DatasetEvent &event, const frontend::FrontEndResul
     }
 }
 
-bool HasImuTopic(const io::DatasetConfig &dataset) {
-    return dataset.reader == io::ReaderKind::kRosbag && !dataset.rosbag.imu_topic.empty();
+bool HasImu(const io::DatasetConfig &dataset) {
+    if (dataset.reader == io::ReaderKind::kRosbag) return !dataset.rosbag.imu_topic.empty();
+    return !dataset.imu.path.empty();
+}
+
+const char *ImuKey(const io::DatasetConfig &dataset) {
+    return dataset.reader == io::ReaderKind::kRosbag ? "rosbag.imu_topic" : "imu.path";
+}
+
+std::string ImuSource(const io::DatasetConfig &dataset) {
+    if (dataset.reader == io::ReaderKind::kRosbag)
+        return dataset.rosbag.path + " (rosbag.imu_topic " + dataset.rosbag.imu_topic + ")";
+    return dataset.imu.path + " (imu.path)";
 }
 
 std::string DatasetFile(const io::DatasetConfig &dataset, const std::string &arg) {

@@ -49,8 +49,13 @@ class ScanLoop {
     bool planar_ = false;
 };
 
-/// Whether the dataset has an IMU topic configured.
-[[nodiscard]] bool HasImuTopic(const io::DatasetConfig &dataset);
+/// Whether the dataset names an IMU: a recording's imu topic, or an IMU file (`imu.path`).
+[[nodiscard]] bool HasImu(const io::DatasetConfig &dataset);
+/// The key that names (or would name) the dataset's IMU: rosbag.imu_topic or imu.path.
+[[nodiscard]] const char *ImuKey(const io::DatasetConfig &dataset);
+/// Where the IMU samples come from, for messages: "FILE (rosbag.imu_topic TOPIC)" or "FILE
+/// (imu.path)".
+[[nodiscard]] std::string ImuSource(const io::DatasetConfig &dataset);
 /// The file to name in a message about the dataset description (the YAML, or the bag given).
 [[nodiscard]] std::string DatasetFile(const io::DatasetConfig &dataset, const std::string &arg);
 /// With several radars listed (`radars:`), says once on stderr which one `command` reads (the

@@ -49,8 +49,16 @@ BenchSequence ParseSequence(const YAML::Node &node, std::size_t index, const std
         section.Fail("name", "must be a non-empty name without '/', '@' or spaces");
     }
     // A misspelled key is reported before the checks that it would make fail.
-    for (const char *key : {"simulate", "dataset", "ground_truth"}) (void)section.Has(key);
+    for (const char *key : {"simulate", "dataset", "ground_truth", "odometry", "map_priors"})
+        (void)section.Has(key);
     section.RejectUnknownKeys();
+    if (section.Has("odometry"))
+        s.odometry_methods =
+            ReadEnumList(section, "odometry", std::vector<odometry::OdometryMethod>{},
+                         odometry::ParseOdometryMethod);
+    if (section.Has("map_priors"))
+        s.map_priors = ReadEnumList(section, "map_priors", std::vector<mapping::PriorKind>{},
+                                    mapping::ParsePriorKind);
     if (section.Has("simulate")) {
         io::YamlSection sim = section.Child("simulate");
         s.simulate_sequence = sim.Get<std::string>("sequence", s.name);
@@ -244,7 +252,8 @@ std::vector<BenchRun> PlanBenchmark(const BenchConfig &config, const std::string
                                                ? config.odometry_config
                                                : VariantConfigPath(out_dir, "odometry", variant);
             const std::string suffix = variant.name.empty() ? "" : "@" + variant.name;
-            for (const odometry::OdometryMethod m : config.odometry_methods) {
+            for (const odometry::OdometryMethod m :
+                 seq.odometry_methods.value_or(config.odometry_methods)) {
                 // The paper's three: gyro-only rotation ("IMU"), Doppler only, IMU + Doppler.
                 add_run(RunKind::kOdometry, std::string("odom_") + ToString(m) + suffix,
                         {"odometry", dataset, "--out", "{out}", "--method", ToString(m)},
@@ -256,7 +265,7 @@ std::vector<BenchRun> PlanBenchmark(const BenchConfig &config, const std::string
                                                ? config.map_config
                                                : VariantConfigPath(out_dir, "map", variant);
             const std::string suffix = variant.name.empty() ? "" : "@" + variant.name;
-            for (const mapping::PriorKind prior : config.map_priors) {
+            for (const mapping::PriorKind prior : seq.map_priors.value_or(config.map_priors)) {
                 add_run(RunKind::kMap, std::string("map_") + ToString(prior) + suffix,
                         {"map", dataset, "--prior", ToString(prior), "--out", "{out}"}, run_config);
             }

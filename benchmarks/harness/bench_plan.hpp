@@ -28,6 +28,10 @@ struct BenchSequence {
     // Existing data (when simulate_sequence is empty).
     std::string dataset;
     std::string ground_truth;
+    /// This sequence's own method lists (`odometry:`, `map_priors:` in its entry), e.g. without
+    /// the IMU priors for a recording without an IMU; empty = the benchmark's lists.
+    std::optional<std::vector<odometry::OdometryMethod>> odometry_methods;
+    std::optional<std::vector<mapping::PriorKind>> map_priors;
 };
 
 /// What the runs are scored against.

@@ -11,7 +11,9 @@ std::unique_ptr<DatasetReader> OpenRecordingReader(const DatasetConfig &config) 
     return OpenRosbag2Reader(config);
 }
 
-std::unique_ptr<DatasetReader> OpenDataset(const DatasetConfig &config) {
+namespace {
+
+std::unique_ptr<DatasetReader> OpenScanReader(const DatasetConfig &config) {
     switch (config.reader) {
         case ReaderKind::kRosbag:
             return OpenRecordingReader(config);
@@ -25,14 +27,22 @@ std::unique_ptr<DatasetReader> OpenDataset(const DatasetConfig &config) {
     throw DatasetError(config.config_path + ": unknown reader");
 }
 
+}  // namespace
+
+std::unique_ptr<DatasetReader> OpenDataset(const DatasetConfig &config) {
+    auto reader = OpenScanReader(config);
+    if (config.imu.path.empty()) return reader;
+    return WithImuFile(std::move(reader), config.imu);  // a bag's IMU is a topic (refused here)
+}
+
 std::vector<TopicSummary> ListTopics(const DatasetConfig &config) {
     if (config.reader == ReaderKind::kRosbag) {
         if (DetectBagFormat(config.rosbag.path) == BagFormat::kRos1) return ListBagTopics(config);
         return ListRosbag2Topics(config);
     }
     // One stream of scans: a folder (this validates it and its timestamps file) or a data set's own
-    // files, counted by reading them.
-    auto reader = OpenDataset(config);
+    // files, counted by reading them; and the IMU file, when there is one.
+    auto reader = OpenScanReader(config);
     TopicSummary summary;
     summary.topic = reader->source();
     switch (config.reader) {
@@ -54,7 +64,15 @@ std::vector<TopicSummary> ListTopics(const DatasetConfig &config) {
         if (summary.messages++ == 0) summary.first_ns = event.stamp_ns;
         summary.last_ns = event.stamp_ns;
     }
-    return {summary};
+    if (config.imu.path.empty()) return {summary};
+    const std::vector<ImuSample> imu = ReadImuFile(config.imu);
+    TopicSummary imu_summary;
+    imu_summary.topic = config.imu.path;
+    imu_summary.type = "nuScenes CAN bus ms_imu";
+    imu_summary.messages = imu.size();
+    imu_summary.first_ns = imu.front().stamp_ns;
+    imu_summary.last_ns = imu.back().stamp_ns;
+    return {summary, imu_summary};
 }
 
 std::optional<Trajectory> LoadGroundTruth(const DatasetConfig &config) {

@@ -132,6 +132,16 @@ const char *FormatName(TrajectoryFormat format) {
     return "tum";
 }
 
+// imu.format's names: the one spelling for reading and writing.
+const std::vector<std::pair<std::string, ImuFileFormat>> kImuFileFormats = {
+    {"nuscenes_can_bus", ImuFileFormat::kNuScenesCanBus}};
+
+const std::string &ImuFormatName(ImuFileFormat format) {
+    for (const auto &[name, value] : kImuFileFormats)
+        if (value == format) return name;
+    return kImuFileFormats.front().first;
+}
+
 // vehicle.model_noise: each a 1-sigma size, finite and >= 0 (0 = that constraint holds exactly).
 KinematicModelNoise ReadModelNoise(YamlSection section) {
     KinematicModelNoise noise;
@@ -270,6 +280,14 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
         !config.ground_truth.path.empty() && config.ground_truth.kitti_times_path.empty()) {
         top.Fail("ground_truth.kitti_times", "is required for format: kitti");
     }
+
+    YamlSection imu = top.Child("imu");
+    config.imu.path = ResolvePath(imu.Get<std::string>("path", ""), base_dir);
+    imu.ReadEnum("format", config.imu.format, kImuFileFormats);
+    imu.RejectUnknownKeys();
+    if (config.reader == ReaderKind::kRosbag && !config.imu.path.empty())
+        top.Fail("imu.path",
+                 "is not read with reader: rosbag (a recording's IMU is rosbag.imu_topic)");
 
     YamlSection extrinsics = top.Child("extrinsics");
     config.extrinsics.T_base_radar = ReadTransform(extrinsics.Child("T_base_radar"));
@@ -443,6 +461,12 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
             out << YAML::Key << "kitti_times" << YAML::Value
                 << config.ground_truth.kitti_times_path;
         }
+        out << YAML::EndMap;
+    }
+    if (!config.imu.path.empty()) {
+        out << YAML::Key << "imu" << YAML::Value << YAML::BeginMap;
+        out << YAML::Key << "path" << YAML::Value << config.imu.path;
+        out << YAML::Key << "format" << YAML::Value << ImuFormatName(config.imu.format);
         out << YAML::EndMap;
     }
     out << YAML::Key << "extrinsics" << YAML::Value << YAML::BeginMap;

@@ -23,6 +23,14 @@ namespace dorado::io {
 [[nodiscard]] Trajectory LoadRadarScenesOdometry(const DatasetConfig &config);
 [[nodiscard]] Trajectory LoadNuScenesEgoPoses(const DatasetConfig &config);
 
+/// The samples of an IMU file (ImuFile), in time order. Throws DatasetError naming the file and
+/// the record (unreadable, a missing or malformed field, stamps not increasing, no record).
+[[nodiscard]] std::vector<ImuSample> ReadImuFile(const ImuFile &file);
+/// @p scans' events with the file's IMU samples merged in time order (each sample before the
+/// first scan stamped after it). Throws DatasetError as ReadImuFile.
+[[nodiscard]] std::unique_ptr<DatasetReader> WithImuFile(std::unique_ptr<DatasetReader> scans,
+                                                         const ImuFile &file);
+
 [[nodiscard]] std::unique_ptr<DatasetReader> OpenRosbag2Reader(const DatasetConfig &config);
 /// rosbag.path's recording, ROS1 or rosbag2, whichever its bytes say it is.
 [[nodiscard]] std::unique_ptr<DatasetReader> OpenRecordingReader(const DatasetConfig &config);

@@ -247,6 +247,21 @@ const char *ToString(FallbackCause cause) {
 
 namespace {
 
+// A 2D radar's map lives in the plane: the prior's motion since the previous pose projected onto
+// it (x, y and the rotation about the base's z axis), z, roll and pitch held. A 3-D gyro's roll and
+// pitch rates (a car's body roll, sensor noise) would otherwise be integrated into every pose.
+MotionPrior OnThePlane(const MotionPrior &prior, const Eigen::Isometry3d &T_world_base_last) {
+    const Eigen::Isometry3d D_last_prior = T_world_base_last.inverse() * prior.T_world_base;
+    const Eigen::Matrix3d R = D_last_prior.linear();
+    Eigen::Isometry3d D_planar = Eigen::Isometry3d::Identity();
+    D_planar.linear() = Eigen::AngleAxisd(std::atan2(R(1, 0), R(0, 0)), Eigen::Vector3d::UnitZ())
+                            .toRotationMatrix();
+    D_planar.translation() << D_last_prior.translation().x(), D_last_prior.translation().y(), 0.0;
+    MotionPrior planar = prior;
+    planar.T_world_base = T_world_base_last * D_planar;
+    return planar;
+}
+
 // The jump test's prior: the prior's uncertainty plus the registration's own noise.
 MotionPrior WidenedPrior(const MotionPrior &prior, const MapperConfig &config) {
     MotionPrior widened = prior;
@@ -448,7 +463,6 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Moti
 RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const MapperInput &input) {
     State &s = *state_;
     const MapperConfig &config = s.config;
-    const MotionPrior &prior = input.prior;
     const double dt_s = input.dt_s;
     const GroundUp *ground_base = input.ground_base ? &*input.ground_base : nullptr;
     const Eigen::Vector3d *gyro_base_radps =
@@ -461,8 +475,10 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Mapp
                                         std::to_string(scan_radar.size()) + " points");
     if (s.has_pose && !(std::isfinite(dt_s) && dt_s > 0.0))
         throw std::invalid_argument("RadarMapper::Register: dt must be finite and > 0");
-    if (!prior.T_world_base.matrix().allFinite() || !prior.covariance.allFinite())
+    if (!input.prior.T_world_base.matrix().allFinite() || !input.prior.covariance.allFinite())
         throw std::invalid_argument("RadarMapper::Register: the prior is not finite");
+    const MotionPrior prior =
+        s.planar && s.has_pose ? OnThePlane(input.prior, s.T_world_base_last) : input.prior;
 
     const auto t_start = Clock::now();
     RegistrationResult result;

@@ -60,6 +60,35 @@ TEST(BenchPlan, MatrixHasOneRunPerSequenceAndMethodAfterItsSimulation) {
     EXPECT_TRUE(runs[6].job.depends_on.empty());
 }
 
+TEST(BenchPlan, ASequenceMayNameItsOwnMethods) {
+    // A recording without an IMU: its own lists replace the benchmark's, the others keep them.
+    const BenchConfig config = ParseBenchConfig(R"(
+sequences:
+  - {name: with_imu, dataset: a.yaml, ground_truth: a.tum}
+  - {name: no_imu, dataset: b.yaml, ground_truth: b.tum, odometry: [doppler],
+     map_priors: [constvel, doppler]}
+odometry: [imu, doppler]
+map_priors: [imu, doppler]
+)",
+                                                "/cfg", "test.yaml");
+    std::vector<std::string> methods;
+    for (const BenchRun &run : PlanBenchmark(config, "/out"))
+        methods.push_back(run.sequence + "/" + run.method);
+    EXPECT_EQ(methods, (std::vector<std::string>{"with_imu/odom_imu", "with_imu/odom_doppler",
+                                                 "with_imu/map_imu", "with_imu/map_doppler",
+                                                 "no_imu/odom_doppler", "no_imu/map_constvel",
+                                                 "no_imu/map_doppler"}));
+    try {
+        (void)ParseBenchConfig(
+            "sequences:\n  - {name: x, dataset: a.yaml, ground_truth: a.tum, map_priors: [gps]}\n",
+            "/cfg", "test.yaml");
+        ADD_FAILURE() << "an unknown prior was accepted";
+    } catch (const std::runtime_error &e) {
+        EXPECT_NE(std::string(e.what()).find("sequences[0]"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("gps"), std::string::npos) << e.what();
+    }
+}
+
 TEST(BenchPlan, ErrorsNameTheKey) {
     const auto error_of = [](const std::string &yaml) {
         try {

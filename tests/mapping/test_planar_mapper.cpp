@@ -71,7 +71,7 @@ TEST(PlanarMapper, RegistrationInThePlaneRemovesTheYawRateBiasAndHoldsZRollPitch
     std::mt19937 rng(5);
     const Eigen::Matrix3Xd world = World(rng);
     const double v = 10.0, omega = 0.1, dt = 0.1, bias = 0.02;  // rad/s of yaw-rate bias
-    const int scans = 150;                                       // 150 m, 86 deg of turn
+    const int scans = 150;                                      // 150 m, 86 deg of turn
     Vector6d xi;
     xi << v * dt, 0.0, 0.0, 0.0, 0.0, omega * dt;
     Extrinsics extrinsics;
@@ -112,6 +112,34 @@ TEST(PlanarMapper, RegistrationInThePlaneRemovesTheYawRateBiasAndHoldsZRollPitch
               0.1 * (prior_only.translation() - truth.translation()).norm());
     EXPECT_LT((estimate.translation() - truth.translation()).norm(), 0.015 * v * dt * scans);
     EXPECT_LE(fallbacks, scans / 10);
+}
+
+TEST(PlanarMapper, AGyroPriorsRollAndPitchDoNotLeaveThePlane) {
+    // An IMU prior on a car: the gyro's x and y rates (body roll, pitching, their noise) are
+    // integrated into the prior's rotation. The 2D radar's map keeps x, y and yaw only: every pose
+    // stays level (z, roll, pitch of the start) and the yaw is the prior's rotation about z.
+    std::mt19937 rng(7);
+    const Eigen::Matrix3Xd world = World(rng);
+    const double v = 10.0, omega = 0.1, dt = 0.1;
+    Vector6d xi_true, xi_gyro;
+    xi_true << v * dt, 0.0, 0.0, 0.0, 0.0, omega * dt;
+    xi_gyro << v * dt, 0.0, 0.0, 0.04 * dt, -0.03 * dt, omega * dt;  // + roll and pitch rates
+    Extrinsics extrinsics;
+    extrinsics.T_base_radar = Mount();
+    RadarMapper mapper(MapperConfig{}, extrinsics);
+    mapper.SetPlanar();
+    Eigen::Isometry3d truth = Eigen::Isometry3d::Identity(), estimate = truth;
+    for (int k = 0; k < 40; ++k) {
+        if (k > 0) truth = truth * ExpSE3(xi_true);
+        MotionPrior prior{estimate * ExpSE3(xi_gyro), Matrix6d::Identity() * 1e-4, PriorKind::kImu};
+        if (k == 0) prior = MotionPrior{truth, Matrix6d::Identity() * 1e-6, PriorKind::kImu};
+        const RegistrationResult r = mapper.Register(Scan(world, truth, rng), prior, dt);
+        estimate = r.T_world_base;
+        ASSERT_NEAR(estimate.translation().z(), 0.0, 1e-9) << k;
+        ASSERT_NEAR(estimate.linear()(2, 2), 1.0, 1e-12) << k;
+    }
+    EXPECT_LT(std::abs(RollPitchYaw(truth.linear().transpose() * estimate.linear()).z()), 0.01);
+    EXPECT_LT((estimate.translation() - truth.translation()).norm(), 0.5);
 }
 
 TEST(PlanarMapper, RefusesTheRefinementsThatAreThreeDimensionalOnly) {

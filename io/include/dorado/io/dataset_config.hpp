@@ -17,6 +17,9 @@ namespace dorado::io {
 /// nuscenes_reader.cpp): the scans, their times, the mount and the reference trajectory.
 enum class ReaderKind { kRosbag, kFolder, kRadarScenes, kNuScenes };
 enum class TrajectoryFormat { kTum, kKitti, kPaperCsv };
+/// kNuScenesCanBus: the nuScenes CAN bus expansion's `SCENE_ms_imu.json` (nutonomy/nuscenes-devkit,
+/// can_bus): a list of {utime [us], linear_accel [m/s^2], rotation_rate [rad/s], q}, 100 Hz.
+enum class ImuFileFormat { kNuScenesCanBus };
 
 struct RosbagSource {
     std::string path;                                     ///< the .bag file
@@ -73,6 +76,13 @@ struct RadarStream {
     Eigen::Isometry3d T_base_radar = Eigen::Isometry3d::Identity();
 };
 
+/// The IMU's samples in a file beside the scans (the `imu:` section; readers folder, radarscenes
+/// and nuscenes: a recording's IMU is rosbag.imu_topic). Its mount is extrinsics.T_base_imu.
+struct ImuFile {
+    std::string path;  ///< empty = none
+    ImuFileFormat format = ImuFileFormat::kNuScenesCanBus;
+};
+
 struct GroundTruthFile {
     std::string path;  ///< empty = none
     TrajectoryFormat format = TrajectoryFormat::kTum;
@@ -88,6 +98,7 @@ struct DatasetConfig {
     RadarScenesSource radarscenes;
     NuScenesSource nuscenes;
     GroundTruthFile ground_truth;
+    ImuFile imu;
     FieldMap fields;
     Extrinsics extrinsics;
     VehicleGeometry vehicle;
