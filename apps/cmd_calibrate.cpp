@@ -64,7 +64,7 @@ Samples Collect(const CalibrateOptions &opt, const io::DatasetConfig &dataset) {
         last_ns = event.stamp_ns;
         if ((opt.from_s >= 0 && t < opt.from_s) || (opt.to_s >= 0 && t > opt.to_s)) continue;
         const auto r = estimator.Estimate(event.scan);
-        if (!r.valid || r.v_radar_mps.norm() < opt.min_speed_mps) {
+        if (!r.valid() || r.v_radar_mps.norm() < opt.min_speed_mps) {
             ++out.rejected;
             continue;
         }
@@ -117,7 +117,7 @@ void CollectAll(const CalibrateOptions &opt, const io::DatasetConfig &dataset,
         if (event.kind != io::DatasetEvent::Kind::kRadarScan) continue;
         progress.Update(++scans);
         const auto r = estimator.Estimate(event.scan);
-        if (r.valid) velocities.push_back({event.stamp_ns, r.v_radar_mps});
+        if (r.valid()) velocities.push_back({event.stamp_ns, r.v_radar_mps});
     }
     progress.Finish();
 }

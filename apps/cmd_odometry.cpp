@@ -73,9 +73,8 @@ std::string CsvRow(const odometry::OdometryStep &step, Eigen::Index points,
     AppendCovariance(row, step.motion.cov_omega_base);
     for (int k = 0; k < 3; ++k) row << ',' << Num(step.v_base_used_mps[k]);
     // The fallback reason starts with the estimator's reason when the scan was invalid.
-    const std::string reason =
-        step.used_fallback ? step.fallback_reason : (e.valid ? "" : e.reason);
-    row << ',' << e.inliers << ',' << points << ',' << (e.valid ? 1 : 0) << ','
+    const std::string reason = step.used_fallback ? step.fallback_reason : odometry::Describe(e);
+    row << ',' << e.inliers << ',' << points << ',' << (e.valid() ? 1 : 0) << ','
         << io::CsvQuoted(reason);
     for (int k = 0; k < 3; ++k) row << ',' << Num(gyro_base[k]);
     row << ',' << Num(time_ms);
@@ -107,13 +106,17 @@ nlohmann::json Stats(std::vector<double> v) {
             {"p95", at(0.95)},        {"min", v.front()},  {"max", v.back()}};
 }
 
-// " (no_imu_samples 3, invalid_velocity 1)", or "" without fallbacks.
-std::string CauseList(const std::map<std::string, int> &causes) {
+// " (invalid_velocity 1, no_imu_samples 3)", or "" without fallbacks.
+std::string CauseList(const std::map<odometry::FallbackCause, int> &causes) {
     std::string text;
     for (const auto &[cause, count] : causes)
-        text += (text.empty() ? " (" : ", ") + cause + ' ' + std::to_string(count);
+        text += (text.empty() ? " (" : ", ") + std::string(odometry::ToString(cause)) + ' ' +
+                std::to_string(count);
     return text.empty() ? text : text + ")";
 }
+
+// A cause's stable key in summary.json.
+constexpr auto ByName = [](auto cause) { return odometry::ToString(cause); };
 
 void RunOdometry(const OdometryOptions &opt) {
     const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset);
@@ -143,38 +146,38 @@ void RunOdometry(const OdometryOptions &opt) {
     Progress progress("odometry", expected);
     std::string csv = kCsvHeader;
     std::vector<double> times_ms, inlier_ratios;
-    std::map<std::string, int> invalid_reasons, fallback_causes;
-    std::map<std::string, std::string> first_invalid;  // each kind's first, reported once
+    std::map<odometry::FallbackCause, int> fallback_causes;
+    std::map<odometry::EgoVelocityFailure, int> invalid_reasons;
+    std::map<odometry::EgoVelocityFailure, std::string> first_invalid;  // each's first, once
     std::size_t fallbacks = 0, zero_velocity_updates = 0;
     std::size_t ground_scans = 0;
-    std::map<std::string, int> ground_fallbacks;
+    std::map<odometry::GroundFallback, int> ground_fallbacks;
     ScanLoop loop(front_end);
     StreamGuard guard;  // Ctrl-C or a reader error mid-stream: stop, write what was done
-    loop.Run(*reader, guard, progress,
-             [&](const io::DatasetEvent &event, const frontend::FrontEndResult &result) {
-                 const odometry::OdometryStep &step = result.odometry;
-                 fallbacks += step.used_fallback;
-                 zero_velocity_updates += step.zero_velocity_update;
-                 if (step.used_fallback) fallback_causes[odometry::ToString(step.fallback_cause)]++;
-                 if (config.odometry.ground.enabled && step.integrated) {
-                     const auto &ground = step.ground.observation;
-                     ground_scans += ground.valid;
-                     if (!ground.valid) ground_fallbacks[odometry::ToString(ground.fallback)]++;
-                 }
-                 times_ms.push_back(result.times.total_ms);
-                 if (!step.ego.valid && method != odometry::OdometryMethod::kImu) {
-                     const std::string kind = step.ego.reason.substr(0, step.ego.reason.find(':'));
-                     if (invalid_reasons[kind]++ == 0)
-                         first_invalid[kind] =
-                             "scan " + std::to_string(event.scan_index) + ": " + step.ego.reason;
-                 } else if (step.ego.points_used > 0) {
-                     inlier_ratios.push_back(static_cast<double>(step.ego.inliers) /
-                                             step.ego.points_used);
-                 }
-                 csv +=
-                     CsvRow(step, event.scan.size(), result.gyro_base_radps, result.times.total_ms);
-                 if (opt.masks) WriteMask(opt.out, event.scan_index, step);
-             });
+    loop.Run(
+        *reader, guard, progress,
+        [&](const io::DatasetEvent &event, const frontend::FrontEndResult &result) {
+            const odometry::OdometryStep &step = result.odometry;
+            fallbacks += step.used_fallback;
+            zero_velocity_updates += step.zero_velocity_update;
+            if (step.used_fallback) fallback_causes[step.fallback_cause]++;
+            if (config.odometry.ground.enabled && step.integrated) {
+                const auto &ground = step.ground.observation;
+                ground_scans += ground.valid;
+                if (!ground.valid) ground_fallbacks[ground.fallback]++;
+            }
+            times_ms.push_back(result.times.total_ms);
+            if (!step.ego.valid() && method != odometry::OdometryMethod::kImu) {
+                if (invalid_reasons[step.ego.failure]++ == 0)
+                    first_invalid[step.ego.failure] = "scan " + std::to_string(event.scan_index) +
+                                                      ": " + odometry::Describe(step.ego);
+            } else if (step.ego.points_used > 0) {
+                inlier_ratios.push_back(static_cast<double>(step.ego.inliers) /
+                                        step.ego.points_used);
+            }
+            csv += CsvRow(step, event.scan.size(), result.gyro_base_radps, result.times.total_ms);
+            if (opt.masks) WriteMask(opt.out, event.scan_index, step);
+        });
     guard.ThrowIfNoScanUsed(loop.used(), reader->source());
 
     io::WriteTum(opt.out + "/trajectory.tum", front_end.trajectory());
@@ -189,16 +192,16 @@ void RunOdometry(const OdometryOptions &opt) {
         {"scans_skipped", loop.scans() - loop.used()},
         {"scans_with_fallback_twist", fallbacks},
         // by cause (odometry::FallbackCause): they add up to scans_with_fallback_twist
-        {"fallback_causes", fallback_causes},
+        {"fallback_causes", CountsByKey(fallback_causes, ByName)},
         {"scans_zero_velocity_update", zero_velocity_updates},
-        {"invalid_velocity_reasons", invalid_reasons},
+        {"invalid_velocity_reasons", CountsByKey(invalid_reasons, ByName)},
         {"inlier_ratio", Stats(inlier_ratios)},
         {"time_per_scan_ms", Stats(times_ms)},
         {"path_length_m", front_end.trajectory().PathLength()}};
     if (!radars_used.is_null()) summary["radars"] = radars_used;
     if (config.odometry.ground.enabled) {
         summary["ground"] = {{"scans_with_ground", ground_scans},
-                             {"scans_without_ground", ground_fallbacks}};
+                             {"scans_without_ground", CountsByKey(ground_fallbacks, ByName)}};
     }
     AddStreamCounts(loop, summary);
     WriteSummary(opt.out, summary);
@@ -208,9 +211,9 @@ void RunOdometry(const OdometryOptions &opt) {
                  loop.scans(), loop.used(), fallbacks, CauseList(fallback_causes).c_str(),
                  times_ms.empty() ? 0.0 : summary["time_per_scan_ms"]["mean"].get<double>(),
                  front_end.trajectory().PathLength(), opt.out.c_str());
-    for (const auto &[kind, count] : invalid_reasons)  // each cause once, not once per scan
+    for (const auto &[failure, count] : invalid_reasons)  // each cause once, not once per scan
         std::fprintf(stderr, "odometry: no valid velocity on %d scans (%s); the first, %s\n", count,
-                     kind.c_str(), first_invalid[kind].c_str());
+                     odometry::ToString(failure), first_invalid[failure].c_str());
     guard.ThrowIfStopped("odometry", loop.scans(), opt.out);
 }
 

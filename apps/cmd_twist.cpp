@@ -105,22 +105,22 @@ void RunTwist(const TwistOptions &opt) {
         const odometry::PlanarTwist twist = odometry::EstimatePlanarTwist(observations);
         const odometry::EgoVelocityResult &ego = reference.egos[i];
         odometry::VehicleMotion motion;
-        if (ego.valid) motion = kinematic.Motion(ego.v_radar_mps, ego.cov_v_radar);
+        if (ego.valid()) motion = kinematic.Motion(ego.v_radar_mps, ego.cov_v_radar);
         if (i > 0) {  // integrate the previous interval with the newest twist
             const double dt = NanosToSeconds(stamp - reference.scans[i - 1].stamp_ns);
             Vector6d xi = Vector6d::Zero();
             xi << last(0) * dt, last(1) * dt, 0.0, 0.0, 0.0, last(2) * dt;
             T = T * ExpSE3(xi);
         }
-        if (twist.valid) last = twist.twist;
+        if (twist.valid()) last = twist.twist;
         trajectory.Append(stamp, T);
-        valid += twist.valid;
+        valid += twist.valid();
         radars_used += twist.radars_used;
-        csv << NanosToSeconds(stamp) << ',' << twist.valid << ',' << twist.twist(0) << ','
+        csv << NanosToSeconds(stamp) << ',' << twist.valid() << ',' << twist.twist(0) << ','
             << twist.twist(1) << ',' << twist.twist(2) << ',' << std::sqrt(twist.covariance(0, 0))
             << ',' << std::sqrt(twist.covariance(1, 1)) << ',' << std::sqrt(twist.covariance(2, 2))
             << ',' << twist.radars_used << ',' << twist.points_used << ','
-            << twist.residual_sigma_mps << ',' << ego.valid << ',' << motion.v_base_mps.x() << ','
+            << twist.residual_sigma_mps << ',' << ego.valid() << ',' << motion.v_base_mps.x() << ','
             << motion.omega_base_radps.z() << '\n';
     }
     io::WriteFileAtomically(opt.out + "/twist.csv", [&](std::ostream &os) { os << csv.str(); });

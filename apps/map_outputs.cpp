@@ -9,6 +9,7 @@
 #include "dorado/io/point_cloud_files.hpp"
 #include "dorado/io/trajectory_io.hpp"
 #include "map_image.hpp"
+#include "scan_loop.hpp"
 
 namespace dorado::apps {
 namespace {
@@ -26,6 +27,11 @@ std::string Reason(const mapping::RegistrationResult &r) {
     if (!r.fallback_detail.empty()) reason += " (" + r.fallback_detail + ")";
     return reason;
 }
+
+constexpr auto kFallbackKey = [](mapping::FallbackCause cause) { return mapping::ToString(cause); };
+constexpr auto kYawStatusKey = [](odometry::YawCalibrationStatus status) {
+    return odometry::ToString(status);
+};
 
 }  // namespace
 
@@ -69,17 +75,18 @@ void MapOutputs::Add(const frontend::FrontEndResult &result) {
     if (first_stamp_ns_ < 0) first_stamp_ns_ = result.stamp_ns;
     if (r.fallback()) {
         ++fallbacks_;
-        fallback_reasons_[mapping::ToString(r.fallback_cause)]++;
+        fallback_reasons_[r.fallback_cause]++;
         // The young map (its first seconds) apart: a small map registers worse.
         const double since_start_s = NanosToSeconds(result.stamp_ns - first_stamp_ns_);
-        if (since_start_s < kYoungMapS)
-            young_map_fallback_reasons_[mapping::ToString(r.fallback_cause)]++;
+        if (since_start_s < kYoungMapS) young_map_fallback_reasons_[r.fallback_cause]++;
         const auto bin = static_cast<std::size_t>(std::max(0.0, since_start_s / kYoungMapS));
         if (fallbacks_by_time_.size() <= bin) fallbacks_by_time_.resize(bin + 1, 0);
         ++fallbacks_by_time_[bin];
     }
     ++scans_;
-    if (!result.prior_substitution.empty()) prior_substitutions_[result.prior_substitution]++;
+    const frontend::SubstitutionCause substitution = frontend::SubstitutionCauseOf(result);
+    if (result.prior_substitution != frontend::PriorSubstitution::kNone)
+        prior_substitutions_[substitution]++;
     if (result.static_mask.size() == 0) ++unmasked_;
     const std::pair<const char *, double> stages[] = {{"doppler", t.doppler_ms},
                                                       {"prior", t.prior_ms},
@@ -96,15 +103,15 @@ void MapOutputs::Add(const frontend::FrontEndResult &result) {
                   t.total_ms, r.correspondences, r.fitness_rms_m, r.fallback() ? 1 : 0);
     csv_ += row + io::CsvQuoted(Reason(r)) + ',' +
             (result.prior_first_scan ? "first scan" : mapping::ToString(result.prior_used)) + ',' +
-            io::CsvQuoted(result.prior_substitution) + ',' + std::to_string(r.local_map_points) +
-            ',';
+            io::CsvQuoted(frontend::SubstitutionKey(substitution)) + ',' +
+            std::to_string(r.local_map_points) + ',';
     // The online yaw lever after this scan (empty when the calibration is off).
     const odometry::YawCalibrationStep &yaw = result.yaw_calibration;
     if (yaw.status != odometry::YawCalibrationStatus::kDisabled) {
         std::snprintf(row, sizeof(row), "%.5f,%.5f,", yaw.s_x_m, yaw.sigma_s_x_m);
         csv_ += row;
         yaw_calibration_ = yaw;
-        yaw_calibration_counts_[odometry::ToString(yaw.status)]++;
+        yaw_calibration_counts_[yaw.status]++;
     } else {
         csv_ += ",,";
     }
@@ -137,31 +144,33 @@ nlohmann::json MapOutputs::Summary() const {
         if (std::string(name) != "total") stages[name] = TimeStatistics(values);
     }
     const auto total = stage_ms_.find("total");
-    return {
-        {"fallbacks", fallbacks_},
-        {"fallback_rate", scans_ > 0 ? static_cast<double>(fallbacks_) / scans_ : 0.0},
-        {"fallback_reasons", fallback_reasons_},
-        {"fallback_reasons_first_5s", young_map_fallback_reasons_},
-        {"fallbacks_per_5s", fallbacks_by_time_},
-        {"prior_substitutions_constvel", prior_substitutions_},
-        {"scans_without_mask", unmasked_},
-        {"mover_points_dropped", mover_points_dropped_},
-        {"map_points_dropped", map_points_dropped_},
-        {"noise_scales",
-         {{"prior_translation", noise_scales_.prior(0)},
-          {"prior_rotation", noise_scales_.prior(1)},
-          {"registration_translation", noise_scales_.registration(0)},
-          {"registration_rotation", noise_scales_.registration(1)}}},
-        {"time_per_scan_ms",
-         TimeStatistics(total == stage_ms_.end() ? std::vector<double>{} : total->second)},
-        {"time_per_stage_ms", stages},
-        {"online_calibration", yaw_calibration_counts_.empty()
-                                   ? nlohmann::json()
-                                   : nlohmann::json{{"s_x_m", yaw_calibration_.s_x_m},
-                                                    {"sigma_s_x_m", yaw_calibration_.sigma_s_x_m},
-                                                    {"scans_by_status", yaw_calibration_counts_}}},
-        {"map_points", map_point_count_},
-        {"local_map_points_max", max_local_map_points_}};
+    return {{"fallbacks", fallbacks_},
+            {"fallback_rate", scans_ > 0 ? static_cast<double>(fallbacks_) / scans_ : 0.0},
+            {"fallback_reasons", CountsByKey(fallback_reasons_, kFallbackKey)},
+            {"fallback_reasons_first_5s", CountsByKey(young_map_fallback_reasons_, kFallbackKey)},
+            {"fallbacks_per_5s", fallbacks_by_time_},
+            {"prior_substitutions_constvel",
+             CountsByKey(prior_substitutions_, frontend::SubstitutionKey)},
+            {"scans_without_mask", unmasked_},
+            {"mover_points_dropped", mover_points_dropped_},
+            {"map_points_dropped", map_points_dropped_},
+            {"noise_scales",
+             {{"prior_translation", noise_scales_.prior(0)},
+              {"prior_rotation", noise_scales_.prior(1)},
+              {"registration_translation", noise_scales_.registration(0)},
+              {"registration_rotation", noise_scales_.registration(1)}}},
+            {"time_per_scan_ms",
+             TimeStatistics(total == stage_ms_.end() ? std::vector<double>{} : total->second)},
+            {"time_per_stage_ms", stages},
+            {"online_calibration",
+             yaw_calibration_counts_.empty()
+                 ? nlohmann::json()
+                 : nlohmann::json{{"s_x_m", yaw_calibration_.s_x_m},
+                                  {"sigma_s_x_m", yaw_calibration_.sigma_s_x_m},
+                                  {"scans_by_status",
+                                   CountsByKey(yaw_calibration_counts_, kYawStatusKey)}}},
+            {"map_points", map_point_count_},
+            {"local_map_points_max", max_local_map_points_}};
 }
 
 double MapOutputs::mean_time_ms() const {

@@ -48,14 +48,15 @@ class MapOutputs {
     CovarianceTable covariances_;
     std::map<std::string, std::vector<double>> stage_ms_;  ///< by stage name
     static constexpr double kYoungMapS = 5.0;  ///< fallbacks in the map's first seconds, apart
-    std::map<std::string, int> fallback_reasons_, young_map_fallback_reasons_, prior_substitutions_;
+    std::map<mapping::FallbackCause, int> fallback_reasons_, young_map_fallback_reasons_;
+    std::map<frontend::SubstitutionCause, int> prior_substitutions_;
     int fallbacks_ = 0, unmasked_ = 0, scans_ = 0;
     long long mover_points_dropped_ = 0, map_points_dropped_ = 0;
     mapping::NoiseScales noise_scales_;  ///< after the last scan
     /// Fallbacks per kYoungMapS-long interval since the first scan (when they happen in a run).
     std::vector<int> fallbacks_by_time_;
-    odometry::YawCalibrationStep yaw_calibration_;       ///< the last scan's (online s_x)
-    std::map<std::string, int> yaw_calibration_counts_;  ///< scans by calibration status
+    odometry::YawCalibrationStep yaw_calibration_;  ///< the last scan's (online s_x)
+    std::map<odometry::YawCalibrationStatus, int> yaw_calibration_counts_;  ///< scans by status
     int64_t first_stamp_ns_ = -1;
     std::size_t max_local_map_points_ = 0;
 };

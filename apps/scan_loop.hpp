@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -71,5 +72,13 @@ void WriteMaskFile(const std::string &out_dir, std::size_t scan_index, int64_t s
 void AddStreamCounts(const ScanLoop &loop, nlohmann::json &summary);
 /// Writes out_dir/summary.json atomically.
 void WriteSummary(const std::string &out_dir, const nlohmann::json &summary);
+/// Counts kept by cause (an enum) as summary.json's {"key": count}, `key(cause)` giving the
+/// cause's stable text (its ToString).
+template <typename Cause, typename Key>
+[[nodiscard]] nlohmann::json CountsByKey(const std::map<Cause, int> &counts, Key key) {
+    nlohmann::json json = nlohmann::json::object();
+    for (const auto &[cause, count] : counts) json[std::string(key(cause))] = count;
+    return json;
+}
 
 }  // namespace dorado::apps

@@ -44,7 +44,7 @@ void Evaluate(const std::string &label, const EgoVelocityConfig &config, const S
         }
         crb += VelocityCramerRaoBound(dirs.leftCols(n), sigma.head(n)).diagonal();
         const auto r = estimator.Estimate(s.scan);
-        invalid += !r.valid;
+        invalid += !r.valid();
         se += (r.v_radar_mps - o.v_radar).cwiseAbs2();
     }
     const Eigen::Vector3d rmse = (se / trials).cwiseSqrt(), bound = (crb / trials).cwiseSqrt();

@@ -115,7 +115,7 @@ int main(int argc, char **argv) {
                                     const auto r = dorado_estimator.Estimate(scan);
                                     v = r.v_radar_mps;
                                     it = r.iterations;
-                                    return r.valid;
+                                    return r.valid();
                                 });
         dorado::benchmarks::ReferenceRansac reference;
         const Stats ref = Measure(scenes, crb, reps,

@@ -146,7 +146,7 @@ int main(int argc, char **argv) {
                     double t0 = ThreadNs();
                     const auto result = estimator.Estimate(scan);
                     best_d = std::min(best_d, ThreadNs() - t0);
-                    failed += r == 0 && !result.valid;
+                    failed += r == 0 && !result.valid();
                     Eigen::Vector3d v = Eigen::Vector3d::Zero();
                     t0 = ThreadNs();
                     reference.Estimate(scan, v);

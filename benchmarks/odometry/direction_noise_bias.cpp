@@ -34,7 +34,7 @@ Stats Run(testing::NoisyDirectionOptions o, bool compensate, int trials, double 
         o.seed = 5000 + t;
         const auto scene = testing::MakeNoisyDirectionScan(o);
         const EgoVelocityResult r = estimator.Estimate(scene.scan);
-        if (!r.valid) continue;
+        if (!r.valid()) continue;
         const double e = r.v_radar_mps.z() - o.v_radar.z();
         sum += e;
         sum2 += e * e;

@@ -70,12 +70,35 @@ mapping::PointMask SeenMoving(const RadarScan &scan, const odometry::EgoVelocity
     return moving;
 }
 
-// "no valid velocity: too few points (3 < 10)" -> "doppler: no valid velocity".
-std::string Cause(const std::string &reason) {
-    return "doppler: " + reason.substr(0, reason.find(':'));
+}  // namespace
+
+const char *ToString(PriorSubstitution cause) {
+    switch (cause) {
+        case PriorSubstitution::kNone:
+            return "";
+        case PriorSubstitution::kNoImuSamples:
+            return "no imu samples";
+        case PriorSubstitution::kInvalidDopplerVelocity:
+            return "doppler: no valid velocity";
+        case PriorSubstitution::kDiscontinuousTwist:
+            return "doppler: twist discontinuous with the previous one";
+        case PriorSubstitution::kAngularRateLimit:
+            return "doppler: angular rate above max_angular_rate_radps";
+    }
+    return "?";
 }
 
-}  // namespace
+SubstitutionCause SubstitutionCauseOf(const FrontEndResult &result) {
+    const bool ego = result.prior_substitution == PriorSubstitution::kInvalidDopplerVelocity;
+    return {result.prior_substitution,
+            ego ? result.odometry.ego.failure : odometry::EgoVelocityFailure::kNone};
+}
+
+std::string SubstitutionKey(const SubstitutionCause &cause) {
+    if (cause.first == PriorSubstitution::kInvalidDopplerVelocity)
+        return std::string("doppler: ") + odometry::ToString(cause.second);
+    return ToString(cause.first);
+}
 
 void FrontEndConfig::Validate() const {
     odometry.Validate();
@@ -204,7 +227,7 @@ mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometrySt
                        : mapping::PriorFromPreviousPose(T_prev, noise);
     };
     std::optional<mapping::MotionPrior> built;
-    std::string why_not;
+    PriorSubstitution why_not = PriorSubstitution::kNone;
     const std::vector<ImuSample> imu_samples = gyro_bias.Corrected(imu.samples());
     switch (kind) {
         case PriorKind::kNone:
@@ -220,7 +243,7 @@ mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometrySt
                     : Eigen::Vector3d::Zero();
             built = mapping::PriorFromImu(T_prev, v_world, imu_samples, last_stamp_ns, stamp_ns,
                                           extrinsics.T_base_imu, noise);
-            if (!built) why_not = "no imu samples";
+            if (!built) why_not = PriorSubstitution::kNoImuSamples;
             break;
         }
         case PriorKind::kDoppler:
@@ -228,26 +251,28 @@ mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometrySt
             // The odometry's twist honours every odometry setting; a fallback twist (no valid
             // velocity, an implausible angular rate) is not a measurement: substitute.
             if (step.fallback_cause == odometry::FallbackCause::kInvalidVelocity) {
-                why_not = Cause(step.ego.reason);
+                why_not = PriorSubstitution::kInvalidDopplerVelocity;
             } else if (result.doppler_twist_discontinuous) {
-                why_not = "doppler: twist discontinuous with the previous one";
+                why_not = PriorSubstitution::kDiscontinuousTwist;
             } else if (step.fallback_cause == odometry::FallbackCause::kAngularRateLimit) {
-                why_not = "doppler: angular rate above max_angular_rate_radps";
+                why_not = PriorSubstitution::kAngularRateLimit;
             } else if (step.fallback_cause == odometry::FallbackCause::kNoImuSamples) {
-                why_not = "no imu samples";
+                why_not = PriorSubstitution::kNoImuSamples;
             } else if (kind == PriorKind::kDoppler) {
                 built = mapping::PriorFromDoppler(T_prev, IntervalTwist(step), dt_s, noise);
             } else {
                 built = mapping::PriorFromImuAndDoppler(T_prev, IntervalTwist(step), imu_samples,
                                                         last_stamp_ns + 1, stamp_ns,
                                                         extrinsics.T_base_imu, dt_s, noise);
-                if (!built) why_not = "no imu samples";
+                if (!built) why_not = PriorSubstitution::kNoImuSamples;
             }
             break;
     }
     if (!built) {
         result.prior_used = PriorKind::kConstVel;
         result.prior_substitution = why_not;
+        if (why_not == PriorSubstitution::kInvalidDopplerVelocity)
+            result.prior_substitution_detail = step.ego.failure_detail;
         built = constvel();
     }
     return *built;
@@ -262,7 +287,7 @@ void RadarFrontEnd::State::CalibrateYawLever(FrontEndResult &result) {
     const mapping::RegistrationResult &reg = result.registration;
     // A window needs every scan's own Doppler yaw (eq. 5 on this scan's velocity, no fallback)
     // and every pose registered, with the yaw among the directions the map observes.
-    const bool own_twist = step.ego.valid && !step.used_fallback && !step.planar;
+    const bool own_twist = step.ego.valid() && !step.used_fallback && !step.planar;
     const bool yaw_observed = reg.first_scan || (reg.registered.valid && !reg.fallback() &&
                                                  reg.registered.strong_projector(5, 5) > 0.5);
     const Eigen::Matrix3d R_world_base =
@@ -317,7 +342,7 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
     result.odometry = s.odometry.Register(scan_radar, gyro_base);
     const odometry::OdometryStep &step = result.odometry;
     if (s.has_last)
-        s.gyro_bias.AddInterval(step.ego.valid && step.ego.stationary,
+        s.gyro_bias.AddInterval(step.ego.valid() && step.ego.stationary,
                                 s.imu.Between(s.last_stamp_ns, scan_radar.stamp_ns));
     result.T_world_base_odometry = step.T_world_base;
     if (!step.integrated) {  // the one timestamp-order check, the odometry's (across resets too)
@@ -327,7 +352,7 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
     result.accepted = true;
     result.dt_s = step.dt_s;
     result.twist_base = {step.v_base_used_mps, step.omega_base_used_radps, step.covariance_used};
-    if (step.ego.valid) {
+    if (step.ego.valid()) {
         result.static_mask.resize(scan_radar.size());
         for (Eigen::Index i = 0; i < scan_radar.size(); ++i)
             result.static_mask(i) = step.ego.labels[i] == odometry::PointLabel::kStatic;
@@ -336,11 +361,11 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
 
     // 2-3. The prior, then registration, refinement and map update. A Doppler twist that jumps
     //      (RANSAC on a crowd moving with the vehicle) is neither the prior nor its mask's source.
-    if (s.mapper && mapping::NeedsDoppler(s.config.prior) && step.ego.valid &&
+    if (s.mapper && mapping::NeedsDoppler(s.config.prior) && step.ego.valid() &&
         step.fallback_cause == odometry::FallbackCause::kNone && s.scans_since_reset > 0)
         result.doppler_twist_discontinuous = !s.TwistIsContinuous(step);
     const mapping::PointMask *mask =
-        s.config.use_mask && step.ego.valid && !result.doppler_twist_discontinuous
+        s.config.use_mask && step.ego.valid() && !result.doppler_twist_discontinuous
             ? &result.static_mask
             : nullptr;
     if (s.mapper) {

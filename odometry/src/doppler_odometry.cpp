@@ -110,11 +110,11 @@ void DopplerOdometry::EstimatePlanar(const RadarScan &scan_radar, OdometryStep &
     step.planar = true;
     step.ego = planar_estimator_.Estimate(scan_radar);
     if (!planar_model_) {
-        step.ego.valid = false;
-        step.ego.reason = "no planar vehicle model: " + planar_model_error_;
+        step.ego.failure = EgoVelocityFailure::kNoPlanarModel;
+        step.ego.failure_detail = planar_model_error_;
         return;
     }
-    if (step.ego.valid && config_.method != OdometryMethod::kImu)
+    if (step.ego.valid() && config_.method != OdometryMethod::kImu)
         step.motion = planar_model_->Motion(step.ego.v_radar_mps, step.ego.cov_v_radar);
 }
 
@@ -134,9 +134,12 @@ OdometryStep DopplerOdometry::Register(const RadarScan &scan_radar,
     } else {
         // Also for kImu: its `stationary` flag lets the front end estimate the gyro bias at rest.
         step.ego = estimator_.Estimate(scan_radar);
-        if (!step.ego.valid && IsPlanarScan(scan_radar))  // radar.geometry 3d on a 2D radar
-            step.ego.reason += " (every z is 0: a 2D radar; set radar.geometry planar or auto)";
-        if (step.ego.valid && config_.method != OdometryMethod::kImu) {
+        if (!step.ego.valid() && IsPlanarScan(scan_radar)) {  // radar.geometry 3d on a 2D radar
+            const std::string hint = "every z is 0: a 2D radar; set radar.geometry planar or auto";
+            std::string &detail = step.ego.failure_detail;
+            detail = detail.empty() ? hint : detail + " (" + hint + ")";
+        }
+        if (step.ego.valid() && config_.method != OdometryMethod::kImu) {
             // The vehicle constraint (off by default): the base's lateral and vertical velocity
             // through eq. (5)'s model, v_base = J_v v_radar.
             const ConstrainedVelocity v = ApplyVehicleVelocityPrior(
@@ -176,7 +179,7 @@ void DopplerOdometry::Restart(const Eigen::Isometry3d &T_world_base) {
 
 void DopplerOdometry::CorrectAttitude(const RadarScan &scan_radar, OdometryStep &step) {
     ground_filter_.Predict(step.covariance_used.bottomRightCorner<3, 3>(), step.dt_s);
-    if (!step.ego.valid) {
+    if (!step.ego.valid()) {
         // No static mask: no ground either (counted with the scan's own fallback).
         step.ground.observation.fallback = GroundFallback::kNoVelocity;
         step.ground.cov_roll_pitch = ground_filter_.covariance();
@@ -219,7 +222,7 @@ void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, Odomet
             fallback(FallbackCause::kNoImuSamples, "no IMU samples in the interval");
         return;
     }
-    if (!step.ego.valid) return fallback(FallbackCause::kInvalidVelocity, step.ego.reason);
+    if (!step.ego.valid()) return fallback(FallbackCause::kInvalidVelocity, Describe(step.ego));
     // eq. (7)'s covariance with the model's own error, or the angular-rate prior's posterior.
     Eigen::Vector3d v_base = step.motion.v_base_mps, omega_base = step.motion.omega_base_radps;
     Eigen::Matrix<double, 6, 6> covariance;

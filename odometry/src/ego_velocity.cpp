@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "dorado/core/require.hpp"
 #include "robust_fit.hpp"
@@ -245,20 +246,21 @@ EgoVelocityResult EgoVelocityEstimator::Estimate(const RadarScan &scan_radar) {
     internal::Workspace &ws = *workspace_;
     result.labels.assign(scan_radar.size(), PointLabel::kFiltered);
     if (scan_radar.empty()) {
-        result.reason = "empty scan";
+        result.failure = EgoVelocityFailure::kEmptyScan;
         return result;
     }
     BuildSystem(config_, scan_radar, ws, result.labels);
     const Eigen::Index n = ws.system.size();
     result.points_used = static_cast<int>(n);
     if (n < config_.min_points) {
-        result.reason = "too few points after the pre-filters: " + std::to_string(n) + " < " +
-                        "min_points " + std::to_string(config_.min_points);
+        result.failure = EgoVelocityFailure::kTooFewPoints;
+        result.failure_detail =
+            std::to_string(n) + " < min_points " + std::to_string(config_.min_points);
         return result;
     }
     AssignWeightsAndGates(config_, scan_radar, ws);
     if (!(ws.system.w.maxCoeff() > 0.0)) {
-        result.reason = "every point has zero weight (power at or below decibel_floor_db)";
+        result.failure = EgoVelocityFailure::kZeroWeight;
         return result;
     }
 
@@ -294,7 +296,8 @@ EgoVelocityResult EgoVelocityEstimator::Estimate(const RadarScan &scan_radar) {
                  internal::SolveWeighted(ws.system, ws.mask, ws, v, AtWA);
     }
     if (!solved) {
-        result.reason = "degenerate geometry: the point directions do not span 3-D";
+        result.failure = EgoVelocityFailure::kDegenerateGeometry;
+        result.failure_detail = "the point directions do not span 3-D";
         return result;
     }
     ws.residual.noalias() = ws.system.A * v;
@@ -325,10 +328,11 @@ EgoVelocityResult EgoVelocityEstimator::Estimate(const RadarScan &scan_radar) {
     }
     result.stationary = v.norm() < config_.stationary_speed_mps;
 
-    result.reason = internal::InvalidityReason(
+    internal::Invalidity invalidity = internal::CheckValidity(
         config_, result.inliers, static_cast<long>(n), result.condition_number,
         v.allFinite() && result.cov_v_radar.allFinite(), v.norm());
-    result.valid = result.reason.empty();
+    result.failure = invalidity.failure;
+    result.failure_detail = std::move(invalidity.detail);
     return result;
 }
 

@@ -7,6 +7,24 @@
 
 namespace dorado::odometry {
 
+const char *ToString(PlanarTwistFailure failure) {
+    switch (failure) {
+        case PlanarTwistFailure::kNone:
+            return "";
+        case PlanarTwistFailure::kNotEstimated:
+            return "not estimated";
+        case PlanarTwistFailure::kTooFewRadars:
+            return "too few radars";
+        case PlanarTwistFailure::kTooFewPoints:
+            return "too few static points";
+        case PlanarTwistFailure::kDegenerateGeometry:
+            return "degenerate geometry";
+        case PlanarTwistFailure::kNonFinite:
+            return "non-finite twist";
+    }
+    return "?";
+}
+
 PlanarTwist EstimatePlanarTwist(const std::vector<RadarObservation> &radars) {
     PlanarTwist out;
     Eigen::Matrix3d AtA = Eigen::Matrix3d::Zero();
@@ -14,7 +32,7 @@ PlanarTwist EstimatePlanarTwist(const std::vector<RadarObservation> &radars) {
     double btb = 0.0;
     std::vector<Eigen::Vector2d> positions;
     for (const RadarObservation &radar : radars) {
-        if (radar.scan_radar == nullptr || radar.ego == nullptr || !radar.ego->valid) continue;
+        if (radar.scan_radar == nullptr || radar.ego == nullptr || !radar.ego->valid()) continue;
         const RadarScan &scan = *radar.scan_radar;
         if (radar.ego->labels.size() != static_cast<std::size_t>(scan.size())) continue;
         const Eigen::Matrix3d R = radar.T_base_radar.linear();
@@ -44,19 +62,23 @@ PlanarTwist EstimatePlanarTwist(const std::vector<RadarObservation> &radars) {
     for (std::size_t k = 1; k < positions.size(); ++k)
         distinct = distinct || (positions[k] - positions[0]).norm() > 0.1;
     if (out.radars_used < 2 || !distinct) {
-        out.reason = "the yaw rate needs the static points of >= 2 radars at distinct positions (" +
-                     std::to_string(out.radars_used) + " radar(s) with a valid ego-velocity)";
+        out.failure = PlanarTwistFailure::kTooFewRadars;
+        out.failure_detail =
+            "the yaw rate needs the static points of >= 2 radars at distinct positions (" +
+            std::to_string(out.radars_used) + " radar(s) with a valid ego-velocity)";
         return out;
     }
     if (out.points_used < 4) {
-        out.reason = "too few static points: " + std::to_string(out.points_used);
+        out.failure = PlanarTwistFailure::kTooFewPoints;
+        out.failure_detail = std::to_string(out.points_used) + " < 4";
         return out;
     }
     const Eigen::LDLT<Eigen::Matrix3d> ldlt(AtA);
     const Eigen::Vector3d lambda =
         Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(AtA, Eigen::EigenvaluesOnly).eigenvalues();
     if (!(lambda(0) > 1e-9 * lambda(2))) {
-        out.reason = "degenerate geometry: the radars' directions do not observe the twist";
+        out.failure = PlanarTwistFailure::kDegenerateGeometry;
+        out.failure_detail = "the radars' directions do not observe the twist";
         return out;
     }
     out.twist = ldlt.solve(Atb);
@@ -65,8 +87,9 @@ PlanarTwist EstimatePlanarTwist(const std::vector<RadarObservation> &radars) {
     const double dof = std::max(out.points_used - 3, 1);
     out.residual_sigma_mps = std::sqrt(rss / dof);
     out.covariance = (rss / dof) * ldlt.solve(Eigen::Matrix3d::Identity());
-    out.valid = out.twist.allFinite() && out.covariance.allFinite();
-    if (!out.valid) out.reason = "non-finite twist";
+    out.failure = out.twist.allFinite() && out.covariance.allFinite()
+                      ? PlanarTwistFailure::kNone
+                      : PlanarTwistFailure::kNonFinite;
     return out;
 }
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "validity.hpp"
@@ -182,15 +183,15 @@ EgoVelocityResult PlanarEgoVelocityEstimator::Estimate(const RadarScan &scan_rad
     EgoVelocityResult result;
     result.labels.assign(scan_radar.size(), PointLabel::kFiltered);
     if (scan_radar.empty()) {
-        result.reason = "empty scan";
+        result.failure = EgoVelocityFailure::kEmptyScan;
         return result;
     }
     PlanarSystem s = BuildSystem(c, scan_radar, result.labels);
     const int n = static_cast<int>(s.size());
     result.points_used = n;
     if (n < c.min_points) {
-        result.reason = "too few points after the pre-filters: " + std::to_string(n) +
-                        " < min_points " + std::to_string(c.min_points);
+        result.failure = EgoVelocityFailure::kTooFewPoints;
+        result.failure_detail = std::to_string(n) + " < min_points " + std::to_string(c.min_points);
         return result;
     }
     AssignWeightsAndGates(c, scan_radar, s);
@@ -204,7 +205,8 @@ EgoVelocityResult PlanarEgoVelocityEstimator::Estimate(const RadarScan &scan_rad
     Eigen::Vector2d v;
     Eigen::Matrix2d H;
     if (!solved || !Solve(s, mask, v, H)) {
-        result.reason = "degenerate geometry: the point directions do not span the plane";
+        result.failure = EgoVelocityFailure::kDegenerateGeometry;
+        result.failure_detail = "the point directions do not span the plane";
         return result;
     }
     double rWr = 0.0;
@@ -235,10 +237,11 @@ EgoVelocityResult PlanarEgoVelocityEstimator::Estimate(const RadarScan &scan_rad
                                   : std::numeric_limits<double>::infinity();
     result.stationary = v.norm() < c.stationary_speed_mps;
 
-    result.reason = internal::InvalidityReason(c, result.inliers, static_cast<long>(n),
-                                               result.condition_number,
-                                               v.allFinite() && cov.allFinite(), v.norm());
-    result.valid = result.reason.empty();
+    internal::Invalidity invalidity =
+        internal::CheckValidity(c, result.inliers, static_cast<long>(n), result.condition_number,
+                                v.allFinite() && cov.allFinite(), v.norm());
+    result.failure = invalidity.failure;
+    result.failure_detail = std::move(invalidity.detail);
     return result;
 }
 

@@ -7,10 +7,15 @@
 
 namespace dorado::odometry::internal {
 
+/// A cause with the numbers behind it (EgoVelocityResult::failure and failure_detail).
+struct Invalidity {
+    EgoVelocityFailure failure = EgoVelocityFailure::kNone;
+    std::string detail;
+};
+
 /// Why an estimate from `inliers` static points of `points` is not valid (config's validity
-/// fields, in this order: inliers, conditioning, finiteness, speed); empty when it is.
-[[nodiscard]] std::string InvalidityReason(const EgoVelocityConfig &config, int inliers,
-                                           long points, double condition_number, bool finite,
-                                           double speed_mps);
+/// fields, in this order: inliers, conditioning, finiteness, speed); kNone when it is.
+[[nodiscard]] Invalidity CheckValidity(const EgoVelocityConfig &config, int inliers, long points,
+                                       double condition_number, bool finite, double speed_mps);
 
 }  // namespace dorado::odometry::internal

@@ -247,13 +247,18 @@ void DoradoNode::WatchImu(bool imu_current, int64_t stamp_ns) {
 // The front end's own substitutions (no valid Doppler velocity: constvel) and odometry
 // fallbacks: the first of each logged, the rest summarised.
 void DoradoNode::ReportPrior(const frontend::FrontEndResult &result) {
-    if (!result.prior_substitution.empty() && !result.prior_first_scan &&
-        warnings_.Count("prior substituted", result.prior_substitution))
-        ROS_WARN(
-            "dorado_ros: the %s prior could not be built (%s): the %s prior stood in "
-            "(further ones are summarised)",
-            mapping::ToString(result.prior_requested), result.prior_substitution.c_str(),
-            mapping::ToString(result.prior_used));
+    if (result.prior_substitution != frontend::PriorSubstitution::kNone &&
+        !result.prior_first_scan) {
+        std::string why = frontend::SubstitutionKey(frontend::SubstitutionCauseOf(result));
+        if (!result.prior_substitution_detail.empty())
+            why += ": " + result.prior_substitution_detail;
+        if (warnings_.Count("prior substituted", why))
+            ROS_WARN(
+                "dorado_ros: the %s prior could not be built (%s): the %s prior stood in "
+                "(further ones are summarised)",
+                mapping::ToString(result.prior_requested), why.c_str(),
+                mapping::ToString(result.prior_used));
+    }
     if (result.odometry.used_fallback &&
         warnings_.Count("odometry fallback", result.odometry.fallback_reason))
         ROS_WARN("dorado_ros: odometry fell back: %s (further ones are summarised)",

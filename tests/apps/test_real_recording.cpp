@@ -83,7 +83,7 @@ TEST_F(RealRecording, NearlyEveryScanHasAValidVelocityAndTheGyro) {
     std::size_t valid = 0, fallbacks = 0, with_gyro = 0;
     for (const auto &s : run_->scans) {
         const auto &step = s.result.odometry;
-        valid += step.ego.valid;
+        valid += step.ego.valid();
         fallbacks += step.used_fallback;
         with_gyro += s.result.gyro_base_radps.allFinite();
         // A fallback always has a cause.
@@ -102,7 +102,7 @@ TEST_F(RealRecording, StaticDopplerResidualsMatchTheConfiguredSigma) {
     std::vector<double> residuals;
     for (const auto &s : run_->scans) {
         const auto &ego = s.result.odometry.ego;
-        if (!ego.valid || ego.v_radar_mps.norm() < 0.3) continue;
+        if (!ego.valid() || ego.v_radar_mps.norm() < 0.3) continue;
         for (Eigen::Index i = 0; i < s.scan.size(); ++i) {
             if (ego.labels[i] != odometry::PointLabel::kStatic) continue;
             const Eigen::Vector3d d = s.scan.xyz_radar.col(i).normalized();
@@ -127,7 +127,7 @@ TEST_F(RealRecording, StaticDopplerResidualsMatchTheConfiguredSigma) {
 TEST_F(RealRecording, DopplerVelocityFollowsTheAccelerometer) {
     std::vector<odometry::StampedRadarVelocity> velocities;
     for (const auto &s : run_->scans)
-        if (s.result.odometry.ego.valid)
+        if (s.result.odometry.ego.valid())
             velocities.push_back(
                 odometry::StampedRadarVelocity{s.stamp_ns, s.result.odometry.ego.v_radar_mps});
     const odometry::InertialCheck check =
@@ -165,7 +165,7 @@ TEST_F(RealRecording, StationaryStartStaysAtTheOrigin) {
     int at_rest = 0;
     for (const auto &s : run_->scans) {
         if (s.stamp_ns - t0 > 10'000'000'000) break;
-        EXPECT_TRUE(s.result.odometry.ego.valid);
+        EXPECT_TRUE(s.result.odometry.ego.valid());
         EXPECT_TRUE(s.result.odometry.zero_velocity_update);
         if (s.result.gyro_base_radps.allFinite()) {
             EXPECT_LT(s.result.gyro_base_radps.norm(), 0.02);  // bias-corrected, at rest

@@ -128,7 +128,7 @@ Outcome RunDrive(double configured_s_x, bool enabled) {
         out.not_registered += c.status == odometry::YawCalibrationStatus::kNotRegistered;
         out.s_x_m = c.s_x_m;
         out.sigma_m = c.sigma_s_x_m;
-        if (k + 50 >= WeaveScans().size() && r.odometry.ego.valid) {
+        if (k + 50 >= WeaveScans().size() && r.odometry.ego.valid()) {
             // The interval's mean truth yaw rate (the sine at the interval's midpoint).
             const double t = 0.1 * static_cast<double>(k) - 0.05;
             const double w = 0.35 * std::sin(2.0 * M_PI * t / 12.0);

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <set>
+#include <string>
 
 #include "dorado/core/lie.hpp"
 #include "dorado/frontend/radar_front_end.hpp"
@@ -82,8 +84,8 @@ TEST(RadarFrontEnd, DopplerPriorFollowsTheAngularRatePriorSetting) {
         for (std::size_t k = 1; k < results.size(); ++k) {
             const FrontEndResult &r = results[k];
             ASSERT_TRUE(r.accepted);
-            ASSERT_TRUE(r.odometry.ego.valid) << k;
-            ASSERT_EQ(r.prior_used, PriorKind::kDoppler) << r.prior_substitution;
+            ASSERT_TRUE(r.odometry.ego.valid()) << k;
+            ASSERT_EQ(r.prior_used, PriorKind::kDoppler) << ToString(r.prior_substitution);
             // Independently: eq. (5) from this scan's radar velocity, or its plausible twist.
             const odometry::VehicleMotion motion =
                 model.Motion(r.odometry.ego.v_radar_mps, r.odometry.ego.cov_v_radar);
@@ -120,7 +122,7 @@ TEST(RadarFrontEnd, DopplerPriorHoldsTheMeanOfTheTwoScansTwists) {
     const auto results = RunFrontEnd(config, scans);
     for (std::size_t k = 1; k < results.size(); ++k) {
         const FrontEndResult &r = results[k];
-        ASSERT_EQ(r.prior_used, PriorKind::kDoppler) << r.prior_substitution;
+        ASSERT_EQ(r.prior_used, PriorKind::kDoppler) << ToString(r.prior_substitution);
         const bool own = k == 1 || k == 6;  // no previous interval; after the gap
         const FrontEndResult &previous = results[k - 1];
         const Eigen::Vector3d v =
@@ -156,12 +158,69 @@ TEST(RadarFrontEnd, DopplerPriorObeysTheAngularRateLimit) {
     for (const auto &r : RunFrontEnd(config, scans)) {
         if (r.prior_first_scan) continue;
         EXPECT_EQ(r.prior_used, PriorKind::kConstVel);
-        EXPECT_NE(r.prior_substitution.find("max_angular_rate_radps"), std::string::npos)
-            << r.prior_substitution;
+        EXPECT_EQ(r.prior_substitution, PriorSubstitution::kAngularRateLimit);
         substituted_strict += r.prior_used == PriorKind::kConstVel;
     }
     EXPECT_EQ(substituted_default, 0);
     EXPECT_EQ(substituted_strict, 7);
+}
+
+// A scan without a valid Doppler velocity and a scan whose twist jumps: constvel stands in for
+// the doppler prior, each with its own cause; the scans around them keep the doppler prior.
+TEST(RadarFrontEnd, DopplerPriorSubstitutionsNameTheirCause) {
+    auto scans = DriveScans(10);
+    scans[3].doppler_mps.setConstant(NAN);  // no point left for the ego-velocity
+    {  // scan 7 as if the vehicle drove 5 m/s faster (a RANSAC locked onto a crowd)
+        const std::vector<TruthSample> truth = MakeDrive(10, 0.1);
+        std::mt19937 rng(11);
+        RadarSimOptions sim;
+        sim.points_per_scan = 1500;
+        sim.ghost_fraction = 0.0;
+        scans[7] =
+            SimulateScan(MakeStreetWorld(3), truth[7].T_world_base, Mount().T_base_radar,
+                         truth[7].v_base + Eigen::Vector3d(5.0, 0.0, 0.0), truth[7].omega_base,
+                         Eigen::Matrix3Xd(3, 0), Eigen::Vector3d::Zero(), sim, rng, nullptr);
+        scans[7].stamp_ns = 1'000'000'000 + 7 * kDtNs;
+    }
+    const auto results = RunFrontEnd(FrontEndConfig{}, scans);
+    for (std::size_t k = 1; k < results.size(); ++k) {
+        const FrontEndResult &r = results[k];
+        const PriorSubstitution expected = k == 3   ? PriorSubstitution::kInvalidDopplerVelocity
+                                           : k == 7 ? PriorSubstitution::kDiscontinuousTwist
+                                                    : PriorSubstitution::kNone;
+        EXPECT_EQ(r.prior_substitution, expected) << k << ": " << ToString(r.prior_substitution);
+        EXPECT_EQ(r.prior_used,
+                  expected == PriorSubstitution::kNone ? PriorKind::kDoppler : PriorKind::kConstVel)
+            << k;
+        EXPECT_EQ(r.doppler_twist_discontinuous, k == 7) << k;
+    }
+    // The count key names the ego-velocity's cause, without numbers; the detail has them.
+    EXPECT_EQ(results[3].odometry.ego.failure, odometry::EgoVelocityFailure::kTooFewPoints);
+    EXPECT_EQ(SubstitutionKey(SubstitutionCauseOf(results[3])),
+              "doppler: too few points after the pre-filters");
+    EXPECT_EQ(results[3].prior_substitution_detail, "0 < min_points 10");
+    EXPECT_EQ(SubstitutionKey(SubstitutionCauseOf(results[7])),
+              "doppler: twist discontinuous with the previous one");
+    EXPECT_EQ(results[7].static_mask.size(), scans[7].size());  // valid, but not the map's mask
+}
+
+// Each substitution cause (with each ego-velocity cause) counts under its own key, without
+// numbers: summary.json's prior_substitutions_constvel and scans.csv use these keys.
+TEST(RadarFrontEnd, SubstitutionKeysAreDistinct) {
+    std::set<std::string> keys;
+    int causes = 0;
+    for (PriorSubstitution cause : kAllPriorSubstitutions) {
+        for (odometry::EgoVelocityFailure ego : odometry::kAllEgoVelocityFailures) {
+            const bool with_ego = cause == PriorSubstitution::kInvalidDopplerVelocity;
+            if (with_ego == (ego == odometry::EgoVelocityFailure::kNone)) continue;
+            const std::string key = SubstitutionKey({cause, ego});
+            EXPECT_EQ(key.empty(), cause == PriorSubstitution::kNone);
+            EXPECT_EQ(key.find_first_of("0123456789"), std::string::npos) << key;
+            keys.insert(key);
+            ++causes;
+        }
+    }
+    EXPECT_EQ(static_cast<int>(keys.size()), causes);
 }
 
 TEST(RadarFrontEnd, DopplerPriorHoldsStillOnStationaryScans) {
@@ -197,7 +256,8 @@ TEST(RadarFrontEnd, ImuDopplerPriorUsesTheGyroOrSaysWhyNot) {
         const auto results = RunFrontEnd(config, scans);
         for (std::size_t k = 1; k < results.size(); ++k) {
             EXPECT_EQ(results[k].prior_used, PriorKind::kConstVel);
-            EXPECT_EQ(results[k].prior_substitution, "no imu samples");
+            EXPECT_EQ(results[k].prior_substitution, PriorSubstitution::kNoImuSamples);
+            EXPECT_EQ(SubstitutionKey(SubstitutionCauseOf(results[k])), "no imu samples");
         }
     }
     RadarFrontEnd front_end(config, Mount(), Geometry());  // IMU frame = base frame
@@ -211,7 +271,7 @@ TEST(RadarFrontEnd, ImuDopplerPriorUsesTheGyroOrSaysWhyNot) {
         }
         const FrontEndResult r = front_end.Process(scans[k]);
         if (k == 0) continue;
-        EXPECT_EQ(r.prior_used, PriorKind::kImuDoppler) << r.prior_substitution;
+        EXPECT_EQ(r.prior_used, PriorKind::kImuDoppler) << ToString(r.prior_substitution);
         EXPECT_LT((r.gyro_base_radps - truth[k - 1].omega_base).norm(), 1e-12);
         EXPECT_LT((r.twist_base.omega_base_radps - truth[k - 1].omega_base).norm(), 1e-12);
     }

@@ -35,7 +35,7 @@ MonteCarlo RunTrials(NoisyDirectionOptions o, bool compensate, int trials) {
     for (int t = 0; t < trials; ++t) {
         o.seed = 1000 + t;
         const EgoVelocityResult r = estimator.Estimate(MakeNoisyDirectionScan(o).scan);
-        if (!r.valid) continue;
+        if (!r.valid()) continue;
         const Eigen::Vector3d e = r.v_radar_mps - o.v_radar;
         mc.mean_error += e;
         mc.nees += e.dot(r.cov_v_radar.ldlt().solve(e));
@@ -78,7 +78,7 @@ TEST(DirectionNoise, NoNoiseNoChange) {
     const auto scan = MakeNoisyDirectionScan(o).scan;
     EgoVelocityEstimator a(ConfigFor(o, true)), b(ConfigFor(o, false));
     const EgoVelocityResult ra = a.Estimate(scan), rb = b.Estimate(scan);
-    ASSERT_TRUE(ra.valid);
+    ASSERT_TRUE(ra.valid());
     EXPECT_FALSE(ra.direction_noise_compensated);
     EXPECT_EQ((ra.v_radar_mps - rb.v_radar_mps).norm(), 0.0);
 }
@@ -100,7 +100,7 @@ TEST(DopplerAmbiguity, AliasedScanGivesTheRightVelocity) {
 
     EgoVelocityEstimator with_key(ConfigFor(o, true));
     const EgoVelocityResult r = with_key.Estimate(scan);
-    ASSERT_TRUE(r.valid) << r.reason;
+    ASSERT_TRUE(r.valid()) << Describe(r);
     EXPECT_LT((r.v_radar_mps - o.v_radar).norm(), 0.02);
     EXPECT_NEAR(r.unwrapped, aliased, 0.01 * aliased + 1);  // a 3-sigma gate loses ~0.3 %
     EXPECT_GT(r.inliers, 0.98 * static_cast<double>(scan.size()));

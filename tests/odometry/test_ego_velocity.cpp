@@ -4,6 +4,9 @@
 
 #include <Eigen/Cholesky>
 #include <cstdio>
+#include <iterator>
+#include <set>
+#include <string>
 
 #include "dorado/odometry/ego_velocity.hpp"
 #include "dorado/testing/doppler_scan.hpp"
@@ -52,7 +55,7 @@ TEST(EgoVelocity, NoiseFreeStaticSceneIsRecoveredExactly) {
         c.trim_value = 0.1;
         EgoVelocityEstimator estimator(c);
         const auto r = estimator.Estimate(MakeScan(o).scan);
-        ASSERT_TRUE(r.valid) << r.reason;
+        ASSERT_TRUE(r.valid()) << Describe(r);
         EXPECT_LT((r.v_radar_mps - o.v_radar).norm(), 1e-9);
         EXPECT_EQ(r.inliers, o.points);
         EXPECT_FALSE(r.stationary);
@@ -77,7 +80,7 @@ void CheckCovarianceHonesty(CovarianceModel model, bool heteroscedastic, bool us
     for (int t = 0; t < trials; ++t) {
         o.seed = 1000 + t;
         const auto r = estimator.Estimate(MakeScan(o).scan);
-        ASSERT_TRUE(r.valid) << r.reason;
+        ASSERT_TRUE(r.valid()) << Describe(r);
         const Eigen::Vector3d e = r.v_radar_mps - o.v_radar;
         sample += e * e.transpose() / trials;
         reported += r.cov_v_radar / trials;
@@ -121,7 +124,7 @@ TEST(EgoVelocity, PowerWeightsReduceTheErrorWhenWeakReturnsAreNoisier) {
         for (int t = 0; t < 100; ++t) {
             o.seed = 77 + t;
             const auto r = estimator.Estimate(MakeScan(o).scan);
-            ASSERT_TRUE(r.valid);
+            ASSERT_TRUE(r.valid());
             sum2[use_power] += (r.v_radar_mps - o.v_radar).squaredNorm();
         }
     }
@@ -149,7 +152,7 @@ TEST_P(EgoVelocityOutliers, RansacRecoversVelocityAndMask) {
         o.seed = 500 + t;
         const auto s = MakeScan(o);
         const auto r = estimator.Estimate(s.scan);
-        ASSERT_TRUE(r.valid) << r.reason;
+        ASSERT_TRUE(r.valid()) << Describe(r);
         // Error in units of the Cramer-Rao bound of the static points alone.
         Eigen::Matrix3Xd d_static(3, 0);
         std::vector<int> idx;
@@ -190,7 +193,7 @@ TEST(EgoVelocity, TrimmedIrlsHandlesFewOutliersButRansacIsNeededForABus) {
     SceneOptions o;
     o.dynamic_fraction = 0.1;
     auto r = trimmed.Estimate(MakeScan(o).scan);
-    ASSERT_TRUE(r.valid);
+    ASSERT_TRUE(r.valid());
     EXPECT_LT((r.v_radar_mps - o.v_radar).norm(), 0.05);
     o.dynamic_fraction = 0.4;
     o.coherent_crowd = true;
@@ -229,7 +232,7 @@ TEST(EgoVelocity, PreFiltersLabelPointsFiltered) {
     c.max_azimuth_deg = 44.0;
     EgoVelocityEstimator estimator(c);
     const auto r = estimator.Estimate(s.scan);
-    ASSERT_TRUE(r.valid);
+    ASSERT_TRUE(r.valid());
     for (int i = 0; i < 4; ++i) EXPECT_EQ(r.labels[i], PointLabel::kFiltered) << i;
     for (int i = 0; i < o.points; ++i) {
         const double az = std::atan2(s.scan.xyz_radar(1, i), s.scan.xyz_radar(0, i));
@@ -246,56 +249,76 @@ TEST(EgoVelocity, StationaryVehicleIsReported) {
     o.dynamic_fraction = 0.2;  // people walking past a parked car
     EgoVelocityEstimator estimator{EgoVelocityConfig{}};
     const auto r = estimator.Estimate(MakeScan(o).scan);
-    ASSERT_TRUE(r.valid) << r.reason;
+    ASSERT_TRUE(r.valid()) << Describe(r);
     EXPECT_TRUE(r.stationary);
     EXPECT_LT(r.v_radar_mps.norm(), 0.02);
 }
 
-TEST(EgoVelocity, BadScansAreFlaggedWithAReason) {
+TEST(EgoVelocity, BadScansAreFlaggedWithTheirCause) {
     EgoVelocityEstimator estimator{EgoVelocityConfig{}};
-    const auto expect_invalid = [&](const RadarScan &scan, const std::string &needle) {
+    const auto expect_invalid = [&](const RadarScan &scan, EgoVelocityFailure cause) {
         const auto r = estimator.Estimate(scan);
-        EXPECT_FALSE(r.valid);
-        EXPECT_NE(r.reason.find(needle), std::string::npos) << r.reason;
+        EXPECT_FALSE(r.valid());
+        EXPECT_EQ(r.failure, cause) << Describe(r);
         EXPECT_TRUE(r.v_radar_mps.allFinite());
         EXPECT_EQ(r.labels.size(), static_cast<std::size_t>(scan.size()));
+        return r;
     };
-    expect_invalid(RadarScan{}, "empty");
+    expect_invalid(RadarScan{}, EgoVelocityFailure::kEmptyScan);
 
     SceneOptions o;
     o.points = 6;
-    expect_invalid(MakeScan(o).scan, "too few points");
+    const auto few = expect_invalid(MakeScan(o).scan, EgoVelocityFailure::kTooFewPoints);
+    // The message carries the numbers; the cause's key does not.
+    EXPECT_EQ(Describe(few), "too few points after the pre-filters: 6 < min_points 10");
+    EXPECT_EQ(std::string(ToString(few.failure)), "too few points after the pre-filters");
 
     o.points = 500;
     auto nan_scan = MakeScan(o);
     nan_scan.scan.doppler_mps.setConstant(NAN);
-    expect_invalid(nan_scan.scan, "too few points");
+    expect_invalid(nan_scan.scan, EgoVelocityFailure::kTooFewPoints);
 
     auto collinear = MakeScan(o);  // every point straight ahead
     for (int i = 0; i < o.points; ++i)
         collinear.scan.xyz_radar.col(i) = Eigen::Vector3d(i + 1.0, 0, 0);
-    expect_invalid(collinear.scan, "degenerate");
+    expect_invalid(collinear.scan, EgoVelocityFailure::kDegenerateGeometry);
 
     auto planar = MakeScan(o);  // a 2-D radar: no elevation, v_z unobservable
     planar.scan.xyz_radar.row(2).setZero();
-    expect_invalid(planar.scan, "degenerate");
+    expect_invalid(planar.scan, EgoVelocityFailure::kDegenerateGeometry);
 
     auto all_dynamic = MakeScan(o);  // nothing agrees with anything
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> doppler(-15.0, 15.0);
     for (int i = 0; i < o.points; ++i) all_dynamic.scan.doppler_mps[i] = doppler(rng);
-    expect_invalid(all_dynamic.scan, "too few static inliers");
+    expect_invalid(all_dynamic.scan, EgoVelocityFailure::kTooFewInliers);
 
     o.v_radar = Eigen::Vector3d(60.0, 0.0, 0.0);
-    expect_invalid(MakeScan(o).scan, "above max_speed_mps");
+    const auto fast = expect_invalid(MakeScan(o).scan, EgoVelocityFailure::kSpeedLimit);
+    EXPECT_NEAR(fast.v_radar_mps.norm(), 60.0, 0.5);  // the estimate is kept, only flagged
 
     EgoVelocityConfig db;
     db.power_weighting = PowerWeighting::kDecibel;
     db.decibel_floor_db = 50.0;
     EgoVelocityEstimator floor_estimator(db);
     const auto r = floor_estimator.Estimate(MakeScan(SceneOptions{}).scan);
-    EXPECT_FALSE(r.valid);
-    EXPECT_NE(r.reason.find("zero weight"), std::string::npos) << r.reason;
+    EXPECT_FALSE(r.valid());
+    EXPECT_EQ(r.failure, EgoVelocityFailure::kZeroWeight) << Describe(r);
+}
+
+// Every cause has its own key (summary.json counts by it), without numbers; kNone has none, and a
+// result that was never estimated is not valid.
+TEST(EgoVelocity, FailureKeysAreDistinct) {
+    std::set<std::string> keys;
+    for (EgoVelocityFailure failure : kAllEgoVelocityFailures) {
+        const std::string key = ToString(failure);
+        EXPECT_EQ(key.empty(), failure == EgoVelocityFailure::kNone);
+        EXPECT_EQ(key.find_first_of("0123456789:"), std::string::npos) << key;
+        keys.insert(key);
+    }
+    EXPECT_EQ(keys.size(), std::size(kAllEgoVelocityFailures));
+    EXPECT_FALSE(EgoVelocityResult{}.valid());
+    EXPECT_EQ(Describe(EgoVelocityResult{}), "not estimated");
 }
 
 TEST(EgoVelocity, ZeroPowerMeansUniformWeights) {
@@ -312,7 +335,7 @@ TEST(EgoVelocity, ZeroPowerMeansUniformWeights) {
         unit.use_power = false;
         const auto a = EgoVelocityEstimator(c).Estimate(s.scan);
         const auto b = EgoVelocityEstimator(unit).Estimate(s.scan);
-        ASSERT_TRUE(a.valid) << a.reason;
+        ASSERT_TRUE(a.valid()) << Describe(a);
         EXPECT_LT((a.v_radar_mps - b.v_radar_mps).norm(), 1e-9);
     }
 }
@@ -333,7 +356,7 @@ TEST(EgoVelocity, BailOutKeepsTheAnswerOfFullScoring) {
         o.seed = 900 + t;
         const auto s = MakeScan(o);
         const auto a = with.Estimate(s.scan), b = without.Estimate(s.scan);
-        ASSERT_TRUE(a.valid && b.valid) << a.reason << b.reason;
+        ASSERT_TRUE(a.valid() && b.valid()) << Describe(a) << Describe(b);
         const Eigen::Vector3d e = a.v_radar_mps - b.v_radar_mps;
         worst_sigmas = std::max(worst_sigmas, std::sqrt(e.dot(b.cov_v_radar.ldlt().solve(e))));
     }

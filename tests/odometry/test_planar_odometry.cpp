@@ -43,7 +43,7 @@ TEST(PlanarEgoVelocity, RecoversTheVelocityAndLabelsTheMovers) {
     const RadarScan scan = PlanarScan(v, 150, 50, 0.05, 7);
     ASSERT_TRUE(IsPlanarScan(scan));
     const EgoVelocityResult r = estimator.Estimate(scan);
-    ASSERT_TRUE(r.valid) << r.reason;
+    ASSERT_TRUE(r.valid()) << Describe(r);
     EXPECT_NEAR(r.v_radar_mps.x(), v.x(), 0.05);
     EXPECT_NEAR(r.v_radar_mps.y(), v.y(), 0.05);
     EXPECT_EQ(r.v_radar_mps.z(), 0.0);
@@ -62,7 +62,7 @@ TEST(PlanarEgoVelocity, CovarianceMatchesTheScatterOverScans) {
     const int scans = 300;
     for (int k = 0; k < scans; ++k) {
         const EgoVelocityResult r = estimator.Estimate(PlanarScan(v, 120, 30, 0.05, 100 + k));
-        ASSERT_TRUE(r.valid) << r.reason;
+        ASSERT_TRUE(r.valid()) << Describe(r);
         const Eigen::Vector2d e = r.v_radar_mps.head<2>() - v;
         nees += e.dot(r.cov_v_radar.topLeftCorner<2, 2>().inverse() * e);
     }
@@ -76,8 +76,8 @@ TEST(PlanarEgoVelocity, ParallelDirectionsAreDegenerate) {
         scan.doppler_mps[i] = -5.0;
     }
     const EgoVelocityResult r = PlanarEgoVelocityEstimator{EgoVelocityConfig{}}.Estimate(scan);
-    EXPECT_FALSE(r.valid);
-    EXPECT_NE(r.reason.find("degenerate"), std::string::npos) << r.reason;
+    EXPECT_FALSE(r.valid());
+    EXPECT_EQ(r.failure, EgoVelocityFailure::kDegenerateGeometry) << Describe(r);
 }
 
 // The RadarScenes front-left mount: x 3.86 m, y 0.70 m, yaw 24.98 deg.
@@ -129,7 +129,7 @@ TEST(PlanarOdometry, AutoModeDetectsA2DRadarOnceAndIntegratesTheCircle) {
         RadarScan scan = PlanarScan(v_radar, 100, 0, 0.0, k);
         scan.stamp_ns = k * 100'000'000LL;
         step = odometry.Register(scan);
-        ASSERT_TRUE(step.ego.valid) << step.ego.reason;
+        ASSERT_TRUE(step.ego.valid()) << Describe(step.ego);
         EXPECT_TRUE(step.planar);
         detected += step.planar_detected;
     }

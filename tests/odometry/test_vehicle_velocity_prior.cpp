@@ -92,7 +92,7 @@ double FinalHeight(bool constrained) {
         RadarScan scan = BiasedElevationScan(v_radar, 2.0 * M_PI / 180.0, 1000 + k);
         scan.stamp_ns = k * 100'000'000LL;
         step = odometry.Register(scan);
-        EXPECT_TRUE(step.ego.valid) << step.ego.reason;
+        EXPECT_TRUE(step.ego.valid()) << Describe(step.ego);
         v_z_sum += step.ego.v_radar_mps.z();
     }
     // The bias the estimator cannot see: about 15 sin(2 deg) = 0.52 m/s of v_z (less off the

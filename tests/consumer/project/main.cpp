@@ -25,7 +25,7 @@ int main() {
     dorado::odometry::EgoVelocityEstimator estimator{dorado::odometry::EgoVelocityConfig{}};
     const auto result = estimator.Estimate(scan);
     const double error = (result.v_radar_mps - v_true).norm();
-    std::printf("valid %d, v = [%.6f %.6f %.6f], error %.2e m/s\n", result.valid ? 1 : 0,
+    std::printf("valid %d, v = [%.6f %.6f %.6f], error %.2e m/s\n", result.valid() ? 1 : 0,
                 result.v_radar_mps.x(), result.v_radar_mps.y(), result.v_radar_mps.z(), error);
-    return result.valid && error < 1e-6 ? 0 : 1;
+    return result.valid() && error < 1e-6 ? 0 : 1;
 }

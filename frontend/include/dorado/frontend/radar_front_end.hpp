@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dorado/core/extrinsics.hpp"
@@ -53,6 +54,27 @@ struct FrontEndTimes {
     double total_ms = 0.0;
 };
 
+/// Why the requested prior could not be built and constvel stood in for it.
+enum class PriorSubstitution {
+    kNone,          ///< the requested prior was used
+    kNoImuSamples,  ///< "no imu samples": an IMU prior without a gyro sample in the interval
+    /// "doppler: no valid velocity": a Doppler prior without an ego-velocity (odometry.ego.failure
+    /// says why)
+    kInvalidDopplerVelocity,
+    /// "doppler: twist discontinuous with the previous one" (doppler_twist_discontinuous)
+    kDiscontinuousTwist,
+    /// "doppler: angular rate above max_angular_rate_radps": the odometry's twist was a fallback
+    kAngularRateLimit,
+};
+/// Every cause, in the order above.
+inline constexpr PriorSubstitution kAllPriorSubstitutions[] = {
+    PriorSubstitution::kNone, PriorSubstitution::kNoImuSamples,
+    PriorSubstitution::kInvalidDopplerVelocity, PriorSubstitution::kDiscontinuousTwist,
+    PriorSubstitution::kAngularRateLimit};
+
+/// The cause in words, without numbers: "" for kNone, e.g. "no imu samples".
+[[nodiscard]] const char *ToString(PriorSubstitution cause);
+
 /// What the front end did with one scan.
 struct FrontEndResult {
     int64_t stamp_ns = 0;
@@ -82,7 +104,10 @@ struct FrontEndResult {
     mapping::PriorKind prior_requested = mapping::PriorKind::kDoppler;
     mapping::PriorKind prior_used = mapping::PriorKind::kDoppler;
     bool prior_first_scan = false;
-    std::string prior_substitution;
+    PriorSubstitution prior_substitution = PriorSubstitution::kNone;
+    /// The numbers behind the substitution, for messages (kInvalidDopplerVelocity: the
+    /// ego-velocity's failure_detail); empty otherwise.
+    std::string prior_substitution_detail;
     /// The Doppler twist jumped against the last continuous one (beyond the twists' covariances
     /// and the constvel prior's accelerations): the doppler priors substitute constvel and the
     /// scan is registered without the Doppler mask (its static set is suspect).
@@ -99,6 +124,15 @@ struct FrontEndResult {
 
     FrontEndTimes times;
 };
+
+/// A substitution's cause for counting: the cause, with the ego-velocity's failure when it is
+/// kInvalidDopplerVelocity (kNone otherwise).
+using SubstitutionCause = std::pair<PriorSubstitution, odometry::EgoVelocityFailure>;
+[[nodiscard]] SubstitutionCause SubstitutionCauseOf(const FrontEndResult &result);
+/// The cause as a stable key without numbers (summary counts, CSV columns): ToString of the
+/// substitution, except that kInvalidDopplerVelocity names the ego-velocity's cause,
+/// "doppler: too few static inliers"; "" for kNone.
+[[nodiscard]] std::string SubstitutionKey(const SubstitutionCause &cause);
 
 /// The road's up-vector in the base frame from a scan's plane fit (`fit` valid), for the mapper's
 /// ground residual (mapping::GroundUp): its covariance is the fit's plus the road's own slope about

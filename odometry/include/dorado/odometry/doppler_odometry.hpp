@@ -40,7 +40,7 @@ enum class OdometryMethod {
 /// substitution has exactly one cause, which `dorado odometry` counts.
 enum class FallbackCause {
     kNone,              ///< the scan's own twist
-    kInvalidVelocity,   ///< no valid ego-velocity (EgoVelocityResult::reason says why)
+    kInvalidVelocity,   ///< no valid ego-velocity (EgoVelocityResult::failure says why)
     kNoImuSamples,      ///< imu / imu+doppler: no gyro sample in the scan interval
     kAngularRateLimit,  ///< the Doppler model's |omega| above max_angular_rate_radps
     kDopplerRotation,   ///< imu+doppler without gyro samples: the Doppler model's rotation used

@@ -145,9 +145,37 @@ struct EgoVelocityConfig {
     void Validate() const;
 };
 
+/// Why a scan gave no valid ego-velocity, in the order the estimators check; the numbers that
+/// decided it are in EgoVelocityResult::failure_detail.
+enum class EgoVelocityFailure {
+    kNone,                ///< valid
+    kNotEstimated,        ///< "not estimated": no Estimate() ran (a scan skipped for its stamp)
+    kEmptyScan,           ///< "empty scan"
+    kTooFewPoints,        ///< "too few points after the pre-filters": fewer than min_points
+    kZeroWeight,          ///< every point's weight is 0 (power at or below decibel_floor_db)
+    kDegenerateGeometry,  ///< "degenerate geometry": singular, or above max_condition_number
+    kTooFewInliers,       ///< "too few static inliers": below min_inliers or min_inlier_ratio
+    kNonFinite,           ///< "non-finite velocity or covariance"
+    kSpeedLimit,          ///< "speed above max_speed_mps"
+    kNoPlanarModel,       ///< "no planar vehicle model": a 2D radar on a mount it cannot handle
+};
+/// Every cause, in the order above.
+inline constexpr EgoVelocityFailure kAllEgoVelocityFailures[] = {
+    EgoVelocityFailure::kNone,          EgoVelocityFailure::kNotEstimated,
+    EgoVelocityFailure::kEmptyScan,     EgoVelocityFailure::kTooFewPoints,
+    EgoVelocityFailure::kZeroWeight,    EgoVelocityFailure::kDegenerateGeometry,
+    EgoVelocityFailure::kTooFewInliers, EgoVelocityFailure::kNonFinite,
+    EgoVelocityFailure::kSpeedLimit,    EgoVelocityFailure::kNoPlanarModel};
+
+/// The cause in words, without numbers (a stable key for counts): "" for kNone, e.g.
+/// "too few points after the pre-filters" for kTooFewPoints.
+[[nodiscard]] const char *ToString(EgoVelocityFailure failure);
+
 struct EgoVelocityResult {
-    bool valid = false;
-    std::string reason;  ///< why the scan is not valid (empty when valid)
+    /// kNone: the velocity is valid. Otherwise the cause, and failure_detail its numbers.
+    EgoVelocityFailure failure = EgoVelocityFailure::kNotEstimated;
+    std::string failure_detail;  ///< e.g. "3 < min_points 10" (for messages, never decisions)
+    [[nodiscard]] bool valid() const { return failure == EgoVelocityFailure::kNone; }
     Eigen::Vector3d v_radar_mps = Eigen::Vector3d::Zero();  ///< radar velocity in the radar frame
     Eigen::Matrix3d cov_v_radar = Eigen::Matrix3d::Zero();  ///< its covariance [m^2/s^2]
     std::vector<PointLabel> labels;                         ///< one per input point
@@ -164,6 +192,10 @@ struct EgoVelocityResult {
     bool direction_noise_compensated = false;
 };
 
+/// Why `result` is not valid, in words with its numbers ("too few points after the pre-filters:
+/// 3 < min_points 10"); empty when it is valid.
+[[nodiscard]] std::string Describe(const EgoVelocityResult &result);
+
 /// Estimates v_radar from a scan: for a static point with unit direction d_i,
 /// -doppler_i = d_i . v_radar (eq. 1).
 class EgoVelocityEstimator {
@@ -176,7 +208,7 @@ class EgoVelocityEstimator {
     EgoVelocityEstimator &operator=(EgoVelocityEstimator &&) noexcept;
 
     /// Not const: reuses internal buffers so that the RANSAC loop does not allocate. Never throws
-    /// on bad data: a scan that cannot be used comes back with valid = false and a reason.
+    /// on bad data: a scan that cannot be used comes back with its failure cause.
     EgoVelocityResult Estimate(const RadarScan &scan_radar);
 
     [[nodiscard]] const EgoVelocityConfig &config() const { return config_; }

@@ -24,9 +24,23 @@ struct RadarObservation {
     const EgoVelocityResult *ego = nullptr;
 };
 
+/// Why the joint fit gave no twist; the numbers are in PlanarTwist::failure_detail.
+enum class PlanarTwistFailure {
+    kNone,                ///< valid
+    kNotEstimated,        ///< "not estimated": EstimatePlanarTwist did not run
+    kTooFewRadars,        ///< "too few radars": < 2 with static points at distinct positions
+    kTooFewPoints,        ///< "too few static points": < 4 over every radar
+    kDegenerateGeometry,  ///< "degenerate geometry": the radars' directions miss the twist
+    kNonFinite,           ///< "non-finite twist"
+};
+
+/// The cause in words, without numbers: "" for kNone, e.g. "too few radars".
+[[nodiscard]] const char *ToString(PlanarTwistFailure failure);
+
 struct PlanarTwist {
-    bool valid = false;
-    std::string reason;  ///< why not valid
+    PlanarTwistFailure failure = PlanarTwistFailure::kNotEstimated;  ///< kNone: valid
+    std::string failure_detail;  ///< the numbers behind the failure (for messages)
+    [[nodiscard]] bool valid() const { return failure == PlanarTwistFailure::kNone; }
     /// (v_x, v_y) of the base origin (rear-axle centre) in the base frame [m/s], yaw rate [rad/s].
     Eigen::Vector3d twist = Eigen::Vector3d::Zero();
     Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  ///< of twist: sigma^2 (A^T A)^-1
@@ -41,7 +55,7 @@ struct PlanarTwist {
 ///             = (R_k d_i)^T [1 0 -s_ky; 0 1 s_kx] (v_x, v_y, omega_z).
 /// Least squares over every radar's static points (equal weights), covariance from the
 /// residuals. Needs >= 2 radars with valid ego-velocities at distinct positions (else the yaw
-/// rate is unobservable: reason set, valid false) and >= 4 points.
+/// rate is unobservable: PlanarTwistFailure::kTooFewRadars) and >= 4 points.
 [[nodiscard]] PlanarTwist EstimatePlanarTwist(const std::vector<RadarObservation> &radars);
 
 }  // namespace dorado::odometry

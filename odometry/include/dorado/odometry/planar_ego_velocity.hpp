@@ -22,7 +22,7 @@ class PlanarEgoVelocityEstimator {
     /// Validates the config (std::invalid_argument naming the field).
     explicit PlanarEgoVelocityEstimator(EgoVelocityConfig config);
 
-    /// Never throws on bad data: an unusable scan comes back with valid = false and a reason.
+    /// Never throws on bad data: an unusable scan comes back with its failure cause.
     [[nodiscard]] EgoVelocityResult Estimate(const RadarScan &scan_radar) const;
 
     [[nodiscard]] const EgoVelocityConfig &config() const { return config_; }
