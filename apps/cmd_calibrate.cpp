@@ -140,7 +140,7 @@ void RunDopplerSign(const CalibrateOptions &opt, const io::DatasetConfig &datase
         throw io::DatasetError(ImuSource(dataset) + ": " + e.what());
     }
     if (c.doppler_sign == 0)
-        throw io::DatasetError(dataset.rosbag.path + ": no " + std::to_string(opt.window_s) +
+        throw io::DatasetError(ImuSource(dataset) + ": no " + std::to_string(opt.window_s) +
                                " s window with motion where scans and IMU samples overlap (" +
                                std::to_string(velocities.size()) + " valid scans, " +
                                std::to_string(imu.size()) + " IMU samples): check the stamps");

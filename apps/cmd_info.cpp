@@ -7,10 +7,12 @@
 
 #include "commands.hpp"
 #include "dorado/core/angles.hpp"
+#include "dorado/core/lie.hpp"
 #include "dorado/core/time.hpp"
 #include "dorado/io/dataset.hpp"
 #include "dorado/io/folder_layout.hpp"
 #include "progress.hpp"
+#include "scan_loop.hpp"
 
 namespace dorado::apps {
 
@@ -52,12 +54,17 @@ double Median(std::vector<double> v) {
     return v[v.size() / 2];
 }
 
+// A topic's message rate over its time span [Hz] (0 with fewer than 2 messages).
+double Rate(const io::TopicSummary &t) {
+    const double span_s = NanosToSeconds(t.last_ns - t.first_ns);
+    return span_s > 0 && t.messages > 1 ? static_cast<double>(t.messages - 1) / span_s : 0.0;
+}
+
 void PrintTopics(const std::vector<io::TopicSummary> &topics, const io::DatasetConfig &config) {
     std::printf("topics:\n");
     for (const auto &t : topics) {
         const double span_s = NanosToSeconds(t.last_ns - t.first_ns);
-        const double rate =
-            span_s > 0 && t.messages > 1 ? static_cast<double>(t.messages - 1) / span_s : 0.0;
+        const double rate = Rate(t);
         std::string role;
         if (t.topic == config.rosbag.radar_topic) role = "  <- radar";
         if (t.topic == config.rosbag.imu_topic || t.topic == config.imu.path) role = "  <- imu";
@@ -76,18 +83,15 @@ void PrintRadars(const io::DatasetConfig &config, ProblemLog &problems) {
     for (std::size_t k = 0; k < config.radars.size(); ++k) {
         const io::RadarStream &radar = config.radars[k];
         const Eigen::Vector3d t = radar.T_base_radar.translation();
-        const Eigen::Matrix3d R = radar.T_base_radar.linear();
-        const double yaw_deg = RadToDeg(std::atan2(R(1, 0), R(0, 0)));
+        const double yaw_deg = RadToDeg(RollPitchYaw(radar.T_base_radar.linear()).z());
         std::printf("  %-12s mount x %6.3f y %6.3f z %5.2f m, yaw %8.3f deg", radar.name.c_str(),
                     t.x(), t.y(), t.z(), yaw_deg);
         try {
-            const auto topics = io::ListTopics(io::ForRadar(config, k));
-            const io::TopicSummary &scans = topics.front();
-            const double span_s = NanosToSeconds(scans.last_ns - scans.first_ns);
-            std::printf(", %zu scans, %.2f s, %.2f Hz\n", scans.messages, span_s,
-                        span_s > 0 && scans.messages > 1
-                            ? static_cast<double>(scans.messages - 1) / span_s
-                            : 0.0);
+            io::DatasetConfig one = io::ForRadar(config, k);
+            one.imu.path.clear();  // its scans only: the IMU file is listed above
+            const io::TopicSummary scans = io::ListTopics(one).front();
+            std::printf(", %zu scans, %.2f s, %.2f Hz\n", scans.messages,
+                        NanosToSeconds(scans.last_ns - scans.first_ns), Rate(scans));
         } catch (const std::exception &e) {
             std::printf(", unreadable\n");
             problems.Add("radars that cannot be read", radar.name + ": " + e.what());
@@ -149,8 +153,7 @@ int RunInfo(const std::string &dataset_arg) {
     // As the front end pairs them: the IMU samples that arrived before a scan, stamped in its
     // interval (previous scan, scan]. None there = no gyro rotation for that scan.
     ImuWindow imu_window;
-    const bool has_imu_topic =
-        (is_bag && !config.rosbag.imu_topic.empty()) || !config.imu.path.empty();
+    const bool has_imu_topic = HasImu(config);
     int64_t first_ns = 0, last_ns = 0, last_imu_ns = INT64_MIN;
     double min_doppler = 0.0, max_doppler = 0.0;
     std::size_t scans_with_points = 0, planar_scans = 0;  // every z exactly 0: a 2D radar's

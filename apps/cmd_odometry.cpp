@@ -115,9 +115,6 @@ std::string CauseList(const std::map<odometry::FallbackCause, int> &causes) {
     return text.empty() ? text : text + ")";
 }
 
-// A cause's stable key in summary.json.
-constexpr auto ByName = [](auto cause) { return odometry::ToString(cause); };
-
 void RunOdometry(const OdometryOptions &opt) {
     const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset);
     const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "odometry");
@@ -192,16 +189,16 @@ void RunOdometry(const OdometryOptions &opt) {
         {"scans_skipped", loop.scans() - loop.used()},
         {"scans_with_fallback_twist", fallbacks},
         // by cause (odometry::FallbackCause): they add up to scans_with_fallback_twist
-        {"fallback_causes", CountsByKey(fallback_causes, ByName)},
+        {"fallback_causes", CountsByKey(fallback_causes)},
         {"scans_zero_velocity_update", zero_velocity_updates},
-        {"invalid_velocity_reasons", CountsByKey(invalid_reasons, ByName)},
+        {"invalid_velocity_reasons", CountsByKey(invalid_reasons)},
         {"inlier_ratio", Stats(inlier_ratios)},
         {"time_per_scan_ms", Stats(times_ms)},
         {"path_length_m", front_end.trajectory().PathLength()}};
     if (!radars_used.is_null()) summary["radars"] = radars_used;
     if (config.odometry.ground.enabled) {
         summary["ground"] = {{"scans_with_ground", ground_scans},
-                             {"scans_without_ground", CountsByKey(ground_fallbacks, ByName)}};
+                             {"scans_without_ground", CountsByKey(ground_fallbacks)}};
     }
     AddStreamCounts(loop, summary);
     WriteSummary(opt.out, summary);

@@ -28,11 +28,6 @@ std::string Reason(const mapping::RegistrationResult &r) {
     return reason;
 }
 
-constexpr auto kFallbackKey = [](mapping::FallbackCause cause) { return mapping::ToString(cause); };
-constexpr auto kYawStatusKey = [](odometry::YawCalibrationStatus status) {
-    return odometry::ToString(status);
-};
-
 }  // namespace
 
 nlohmann::json TimeStatistics(std::vector<double> values_ms) {
@@ -146,8 +141,8 @@ nlohmann::json MapOutputs::Summary() const {
     const auto total = stage_ms_.find("total");
     return {{"fallbacks", fallbacks_},
             {"fallback_rate", scans_ > 0 ? static_cast<double>(fallbacks_) / scans_ : 0.0},
-            {"fallback_reasons", CountsByKey(fallback_reasons_, kFallbackKey)},
-            {"fallback_reasons_first_5s", CountsByKey(young_map_fallback_reasons_, kFallbackKey)},
+            {"fallback_reasons", CountsByKey(fallback_reasons_)},
+            {"fallback_reasons_first_5s", CountsByKey(young_map_fallback_reasons_)},
             {"fallbacks_per_5s", fallbacks_by_time_},
             {"prior_substitutions_constvel",
              CountsByKey(prior_substitutions_, frontend::SubstitutionKey)},
@@ -167,8 +162,7 @@ nlohmann::json MapOutputs::Summary() const {
                  ? nlohmann::json()
                  : nlohmann::json{{"s_x_m", yaw_calibration_.s_x_m},
                                   {"sigma_s_x_m", yaw_calibration_.sigma_s_x_m},
-                                  {"scans_by_status",
-                                   CountsByKey(yaw_calibration_counts_, kYawStatusKey)}}},
+                                  {"scans_by_status", CountsByKey(yaw_calibration_counts_)}}},
             {"map_points", map_point_count_},
             {"local_map_points_max", max_local_map_points_}};
 }

@@ -72,13 +72,18 @@ void WriteMaskFile(const std::string &out_dir, std::size_t scan_index, int64_t s
 void AddStreamCounts(const ScanLoop &loop, nlohmann::json &summary);
 /// Writes out_dir/summary.json atomically.
 void WriteSummary(const std::string &out_dir, const nlohmann::json &summary);
-/// Counts kept by cause (an enum) as summary.json's {"key": count}, `key(cause)` giving the
-/// cause's stable text (its ToString).
+/// Counts kept by cause as summary.json's {"key": count}, `key(cause)` giving the cause's stable
+/// text.
 template <typename Cause, typename Key>
 [[nodiscard]] nlohmann::json CountsByKey(const std::map<Cause, int> &counts, Key key) {
     nlohmann::json json = nlohmann::json::object();
     for (const auto &[cause, count] : counts) json[std::string(key(cause))] = count;
     return json;
+}
+/// The same for an enum keyed by its own ToString (found in the enum's namespace).
+template <typename Cause>
+[[nodiscard]] nlohmann::json CountsByKey(const std::map<Cause, int> &counts) {
+    return CountsByKey(counts, [](Cause cause) { return ToString(cause); });
 }
 
 }  // namespace dorado::apps

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "dorado/core/lie.hpp"
 #include "dorado/core/time.hpp"
 #include "dorado/mapping/adaptive_threshold.hpp"
 #include "planar_registration.hpp"
@@ -252,10 +253,10 @@ namespace {
 // pitch rates (a car's body roll, sensor noise) would otherwise be integrated into every pose.
 MotionPrior OnThePlane(const MotionPrior &prior, const Eigen::Isometry3d &T_world_base_last) {
     const Eigen::Isometry3d D_last_prior = T_world_base_last.inverse() * prior.T_world_base;
-    const Eigen::Matrix3d R = D_last_prior.linear();
     Eigen::Isometry3d D_planar = Eigen::Isometry3d::Identity();
-    D_planar.linear() = Eigen::AngleAxisd(std::atan2(R(1, 0), R(0, 0)), Eigen::Vector3d::UnitZ())
-                            .toRotationMatrix();
+    D_planar.linear() =
+        Eigen::AngleAxisd(RollPitchYaw(D_last_prior.linear()).z(), Eigen::Vector3d::UnitZ())
+            .toRotationMatrix();
     D_planar.translation() << D_last_prior.translation().x(), D_last_prior.translation().y(), 0.0;
     MotionPrior planar = prior;
     planar.T_world_base = T_world_base_last * D_planar;

@@ -253,10 +253,10 @@ void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, Odomet
                               gyro_covariance);
             }
             // The vehicle constraint with the gyro's rotation: v_base = R v_radar - omega x s.
-            const ConstrainedVelocity v = ApplyVehicleVelocityPrior(
-                geometry_.velocity_prior, model_.SensorVelocityJacobian(),
-                -gyro_base_radps.cross(model_.p_base_radar()), step.ego.v_radar_mps,
-                step.ego.cov_v_radar);
+            const ConstrainedVelocity v =
+                ApplyVehicleVelocityPrior(geometry_.velocity_prior, model_.SensorVelocityJacobian(),
+                                          -gyro_base_radps.cross(model_.p_base_radar()),
+                                          step.ego.v_radar_mps, step.ego.cov_v_radar);
             return accept(model_.BaseVelocity(v.v_radar_mps, gyro_base_radps), gyro_base_radps,
                           gyro_covariance);
         }

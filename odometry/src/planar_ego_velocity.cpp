@@ -45,8 +45,8 @@ PlanarSystem BuildSystem(const EgoVelocityConfig &c, const RadarScan &scan,
         s.d.emplace_back(p.x() / planar_range, p.y() / planar_range);
         s.b.push_back(-doppler);  // eq. (1): -doppler_i = d_i . v_radar
         s.w.push_back(power);
-        s.cell.push_back(std::clamp(static_cast<int>((az + M_PI) / (2.0 * M_PI) * cells), 0,
-                                    cells - 1));
+        s.cell.push_back(
+            std::clamp(static_cast<int>((az + M_PI) / (2.0 * M_PI) * cells), 0, cells - 1));
         s.input.push_back(i);
         labels[i] = PointLabel::kDynamic;  // until proven static
     }
@@ -224,10 +224,10 @@ EgoVelocityResult PlanarEgoVelocityEstimator::Estimate(const RadarScan &scan_rad
     const double gate_factor =
         c.method == RobustMethod::kNone ? 1.0 : GateConsistencyFactor(c.gate_sigmas);
     // eq. (6) in 2-D, or the sandwich form (honest whatever the weights).
-    const Eigen::Matrix2d cov = c.covariance == CovarianceModel::kResidualScaled
-                                    ? Eigen::Matrix2d(gate_factor * rWr / dof * H_inv)
-                                    : Eigen::Matrix2d(gate_factor * (result.inliers / dof) *
-                                                      H_inv * meat * H_inv);
+    const Eigen::Matrix2d cov =
+        c.covariance == CovarianceModel::kResidualScaled
+            ? Eigen::Matrix2d(gate_factor * rWr / dof * H_inv)
+            : Eigen::Matrix2d(gate_factor * (result.inliers / dof) * H_inv * meat * H_inv);
     result.residual_sigma_mps = std::sqrt(rWr / dof);
     result.v_radar_mps << v, 0.0;
     result.cov_v_radar.topLeftCorner<2, 2>() = cov;

@@ -19,7 +19,7 @@ namespace {
 using testing::RadarSimOptions;
 using testing::SimulateScan;
 
-constexpr double kTrueSx = 1.2;  // the radar's X position ahead of the rear axle [m]
+constexpr double kTrueSx = 1.2;         // the radar's X position ahead of the rear axle [m]
 constexpr int64_t kDtNs = 100'000'000;  // 10 Hz
 
 Extrinsics Mount(double s_x) {
@@ -96,10 +96,10 @@ const std::vector<RadarScan> &WeaveScans() {
         sim.max_range_m = 50.0;
         std::vector<RadarScan> out;
         for (std::size_t k = 0; k < truth.size(); ++k) {
-            RadarScan scan = SimulateScan(world, truth[k].T_world_base, Mount(kTrueSx).T_base_radar,
-                                          truth[k].v_base, truth[k].omega_base,
-                                          Eigen::Matrix3Xd(3, 0), Eigen::Vector3d::Zero(), sim,
-                                          rng, nullptr);
+            RadarScan scan =
+                SimulateScan(world, truth[k].T_world_base, Mount(kTrueSx).T_base_radar,
+                             truth[k].v_base, truth[k].omega_base, Eigen::Matrix3Xd(3, 0),
+                             Eigen::Vector3d::Zero(), sim, rng, nullptr);
             scan.stamp_ns = 1'000'000'000 + static_cast<int64_t>(k) * kDtNs;
             out.push_back(std::move(scan));
         }
@@ -143,9 +143,10 @@ Outcome RunDrive(double configured_s_x, bool enabled) {
 TEST(OnlineCalibration, RecoversAWrongConfiguredSxOnASimulatedDrive) {
     for (const double factor : {0.7, 1.3}) {
         const Outcome on = RunDrive(factor * kTrueSx, true);
-        std::printf("configured x%.1f: s_x %.4f +- %.4f m (truth %.2f) after %d updates, %d scans "
-                    "not registered\n",
-                    factor, on.s_x_m, on.sigma_m, kTrueSx, on.updates, on.not_registered);
+        std::printf(
+            "configured x%.1f: s_x %.4f +- %.4f m (truth %.2f) after %d updates, %d scans "
+            "not registered\n",
+            factor, on.s_x_m, on.sigma_m, kTrueSx, on.updates, on.not_registered);
         EXPECT_GT(on.updates, 10) << "x" << factor;
         EXPECT_NEAR(on.s_x_m, kTrueSx, 0.05 * kTrueSx) << "configured x" << factor;
         // The odometry's yaw rate followed: far closer to the truth than with the wrong lever.

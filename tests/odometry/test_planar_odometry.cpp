@@ -139,8 +139,7 @@ TEST(PlanarOdometry, AutoModeDetectsA2DRadarOnceAndIntegratesTheCircle) {
     const Eigen::Isometry3d truth = start * ExpSE3(xi * (scans * 0.1));
     EXPECT_NEAR((step.T_world_base.translation() - truth.translation()).norm(), 0.0, 1e-6);
     EXPECT_NEAR(step.T_world_base.translation().z(), 0.3, 1e-12);
-    EXPECT_NEAR(RotationAngle(step.T_world_base.linear().transpose() * truth.linear()), 0.0,
-                1e-9);
+    EXPECT_NEAR(RotationAngle(step.T_world_base.linear().transpose() * truth.linear()), 0.0, 1e-9);
 }
 
 }  // namespace

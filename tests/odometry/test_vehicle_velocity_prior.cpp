@@ -38,8 +38,8 @@ TEST(VehicleVelocityPrior, EqualsTheInformationFormSolution) {
     prior.sigma_vertical_mps = 0.03;
     const ConstrainedVelocity out = ApplyVehicleVelocityPrior(prior, A, c, v, C);
     const Eigen::Matrix<double, 2, 3> H = A.bottomRows<2>();
-    const Eigen::Matrix2d P_inv = Eigen::Vector2d(1.0 / (0.07 * 0.07), 1.0 / (0.03 * 0.03))
-                                      .asDiagonal();
+    const Eigen::Matrix2d P_inv =
+        Eigen::Vector2d(1.0 / (0.07 * 0.07), 1.0 / (0.03 * 0.03)).asDiagonal();
     const Eigen::Matrix3d information = C.inverse() + H.transpose() * P_inv * H;
     const Eigen::Vector3d x =
         information.ldlt().solve(C.inverse() * v - H.transpose() * P_inv * c.tail<2>());
@@ -63,9 +63,9 @@ RadarScan BiasedElevationScan(const Eigen::Vector3d &v_radar, double bias_rad, u
         const Eigen::Vector3d d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
         scan.doppler_mps[i] = -d.dot(v_radar) + noise(rng);
         const double e_seen = e + bias_rad;
-        scan.xyz_radar.col(i) = r * Eigen::Vector3d(std::cos(e_seen) * std::cos(a),
-                                                    std::cos(e_seen) * std::sin(a),
-                                                    std::sin(e_seen));
+        scan.xyz_radar.col(i) =
+            r * Eigen::Vector3d(std::cos(e_seen) * std::cos(a), std::cos(e_seen) * std::sin(a),
+                                std::sin(e_seen));
         scan.power_db[i] = 0.0;
     }
     scan.DeriveSphericalFromXyz();

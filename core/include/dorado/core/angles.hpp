@@ -6,7 +6,11 @@ namespace dorado {
 
 inline constexpr double kPi = 3.14159265358979323846;
 
-[[nodiscard]] constexpr double DegToRad(double degrees) { return degrees * (kPi / 180.0); }
-[[nodiscard]] constexpr double RadToDeg(double radians) { return radians * (180.0 / kPi); }
+[[nodiscard]] constexpr double DegToRad(double degrees) {
+    return degrees * (kPi / 180.0);
+}
+[[nodiscard]] constexpr double RadToDeg(double radians) {
+    return radians * (180.0 / kPi);
+}
 
 }  // namespace dorado
