@@ -10,6 +10,7 @@
 #include "dorado/io/atomic_file.hpp"
 #include "dorado/io/dataset.hpp"
 #include "map_outputs.hpp"
+#include "multi_radar_map.hpp"
 #include "progress.hpp"
 #include "scan_loop.hpp"
 #include "stream_guard.hpp"
@@ -18,7 +19,7 @@ namespace dorado::apps {
 namespace {
 
 struct MapOptions {
-    std::string dataset, out, config, odometry_config, prior = "doppler", refine;
+    std::string dataset, out, config, odometry_config, prior = "doppler", refine, radars = "all";
     bool no_mask = false, masks = false;
 };
 
@@ -66,6 +67,18 @@ void RunMap(const MapOptions &opt) {
     if (needs_imu && !HasImu(dataset))
         throw io::ConfigError(DatasetFile(dataset, opt.dataset) + ": key '" + ImuKey(dataset) +
                               "': --prior " + opt.prior + " needs an IMU");
+    if (dataset.radars.size() >= 2 && opt.radars == "all") {
+        if (opt.masks)
+            throw io::ConfigError(
+                "--masks: per-point masks are written for one radar; with the "
+                "dataset's radars: list add --radars first");
+        if (config.mapper.refinement == mapping::Refinement::kWindow)
+            throw io::ConfigError(
+                "refinement window: a 6-DoF smoother; several radars map in the "
+                "plane (ceres, none or filter)");
+        RunMultiRadarMap(dataset, config, opt.out);
+        return;
+    }
     const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "map");
     frontend::RadarFrontEnd front_end(config, dataset.extrinsics, dataset.vehicle);
     io::MakeDirectories(opt.out);
@@ -129,6 +142,10 @@ void RegisterMapCommand(CLI::App &app) {
     cmd->add_option("--odometry-config", opt->odometry_config,
                     "Doppler estimator settings (configs/odometry.yaml; `dorado config print "
                     "odometry`)");
+    cmd->add_option("--radars", opt->radars,
+                    "with the dataset's radars: list: all (default: every radar into one map, "
+                    "each at its own time) or first (the folder: + extrinsics: radar alone)")
+        ->check(CLI::IsMember({"all", "first"}));
     cmd->add_flag("--no-mask", opt->no_mask, "keep the dynamic points (ablation)");
     cmd->add_flag("--masks", opt->masks,
                   "write DIR/masks/NNNNNN.txt: per point 0 static, 1 dynamic, 2 filtered, 3 kept "

@@ -29,6 +29,9 @@ struct DatasetEvent {
     ImuSample imu;                              ///< kImu
     StampedPose ground_truth;  ///< kGroundTruth: T_world_body of the ground-truth body
     std::string problem;       ///< kBadScan: why the scan could not be read
+    /// kRadarScan/kBadScan from OpenRadars: the radar's index in the `radars:` list (0 otherwise);
+    /// scan_index then counts that radar's messages.
+    std::size_t radar = 0;
 };
 
 /// A fatal problem with the dataset (cannot open, unreadable index, missing topic): the message
@@ -49,6 +52,14 @@ class DatasetReader {
 
 /// Opens the reader the config asks for. Throws DatasetError.
 [[nodiscard]] std::unique_ptr<DatasetReader> OpenDataset(const DatasetConfig &config);
+
+/// Every radar of the `radars:` list as one stream in time order: each radar's scans (event.radar
+/// its index) merged by stamp, with the IMU file's samples once. A one-radar description is
+/// OpenDataset. Throws DatasetError naming the radar whose first scan is more than
+/// kMaxRadarClockOffsetS from the first radar's (another time base: a clock in seconds since boot
+/// beside one in Unix time, microseconds read as nanoseconds).
+[[nodiscard]] std::unique_ptr<DatasetReader> OpenRadars(const DatasetConfig &config);
+inline constexpr double kMaxRadarClockOffsetS = 60.0;
 
 }  // namespace dorado::io
 

@@ -1,0 +1,125 @@
+#include "multi_radar_map.hpp"
+
+#include <cstdio>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "dorado/frontend/multi_radar_front_end.hpp"
+#include "dorado/io/atomic_file.hpp"
+#include "dorado/io/dataset.hpp"
+#include "map_outputs.hpp"
+#include "progress.hpp"
+#include "scan_loop.hpp"
+#include "skip_log.hpp"
+#include "stream_guard.hpp"
+
+namespace dorado::apps {
+namespace {
+
+// One radar's share of a run, for summary.json.
+struct RadarCounts {
+    int scans = 0, skipped = 0, ego_valid = 0;
+    std::map<odometry::TwistUpdate, int> updates;
+};
+
+std::vector<Eigen::Isometry3d> Mounts(const io::DatasetConfig &dataset) {
+    std::vector<Eigen::Isometry3d> mounts;
+    for (const io::RadarStream &radar : dataset.radars) mounts.push_back(radar.T_base_radar);
+    return mounts;
+}
+
+}  // namespace
+
+void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEndConfig &config,
+                      const std::string &out_dir) {
+    frontend::MultiRadarFrontEnd front_end(config, Mounts(dataset), dataset.extrinsics.T_base_imu,
+                                           dataset.vehicle);
+    io::MakeDirectories(out_dir);
+    auto reader = io::OpenRadars(dataset);
+    std::size_t expected = 0;
+    for (std::size_t k = 0; k < dataset.radars.size(); ++k)
+        expected += CountRadarMessages(io::ForRadar(dataset, k), false, "");
+    Progress progress("map", expected);
+    MapOutputs outputs(config.mapper.map.voxel_size_m);
+    SkipLog skips;
+    std::vector<RadarCounts> counts(dataset.radars.size());
+    std::size_t scans = 0, sweeps = 0;
+    long long nonfinite = 0;
+    double radars_per_sweep = 0.0;
+    StreamGuard guard;  // Ctrl-C or a reader error mid-stream: stop, write what was done
+    io::DatasetEvent event;
+    while (guard.Next(*reader, event)) {
+        if (event.kind == io::DatasetEvent::Kind::kImu) front_end.AddImu(event.imu);
+        const std::string radar_name =
+            event.radar < dataset.radars.size() ? dataset.radars[event.radar].name : "?";
+        if (event.kind == io::DatasetEvent::Kind::kBadScan) {
+            ++scans;
+            ++counts[event.radar].skipped;
+            skips.Add(event.scan_index, "unreadable scan",
+                      "radar " + radar_name + ": " + event.problem);
+        }
+        if (event.kind != io::DatasetEvent::Kind::kRadarScan) continue;
+        ++scans;
+        RadarCounts &c = counts[event.radar];
+        ++c.scans;
+        nonfinite += event.removed_nonfinite_points;
+        const frontend::RadarScanStep step = front_end.Process(event.radar, event.scan);
+        progress.Update(scans);
+        if (!step.accepted) {
+            ++c.skipped;
+            skips.Add(event.scan_index, "timestamp out of order",
+                      "radar " + radar_name + ": " + step.skip_reason);
+            continue;
+        }
+        c.ego_valid += step.ego.valid();
+        c.updates[step.twist_update]++;
+        if (step.sweep) {
+            outputs.Add(*step.sweep);
+            ++sweeps;
+            radars_per_sweep += step.sweep_radars;
+        }
+    }
+    progress.Finish();
+    skips.PrintSummary();
+    guard.ThrowIfNoScanUsed(sweeps, reader->source());
+
+    outputs.Write(out_dir, front_end.trajectory());
+    nlohmann::json radars = nlohmann::json::array();
+    for (std::size_t k = 0; k < dataset.radars.size(); ++k) {
+        const RadarCounts &c = counts[k];
+        radars.push_back({{"name", dataset.radars[k].name},
+                          {"scans", c.scans},
+                          {"skipped", c.skipped},
+                          {"ego_velocity_valid", c.ego_valid},
+                          {"twist_updates", CountsByKey(c.updates)}});
+    }
+    nlohmann::json summary = {
+        {"dataset", dataset.name},
+        {"prior", mapping::ToString(config.prior)},
+        {"mask", config.use_mask},
+        {"refinement", mapping::ToString(config.mapper.refinement)},
+        {"method", mapping::ToString(config.mapper.method)},
+        {"stopped_early",
+         guard.stopped().empty() ? nlohmann::json() : nlohmann::json(guard.stopped())},
+        {"scans", scans},
+        {"scans_registered", sweeps},
+        {"sweeps", sweeps},
+        {"radars_per_sweep_mean", sweeps > 0 ? radars_per_sweep / double(sweeps) : 0.0},
+        {"radars", radars},
+        {"skip_reasons", skips.Counts()},
+        {"skipped", skips.Scans()},
+        {"nonfinite_points_removed", nonfinite},
+        {"radar_geometry", "planar"},
+        {"path_length_m", front_end.trajectory().PathLength()}};
+    summary.update(outputs.Summary());
+    WriteSummary(out_dir, summary);
+    std::fprintf(stderr,
+                 "map: %zu scans of %zu radars, %zu sweeps (%.2f radars each), %d fell back to "
+                 "the prior, %.2f ms/sweep, path %.1f m -> %s\n",
+                 scans, dataset.radars.size(), sweeps,
+                 sweeps > 0 ? radars_per_sweep / double(sweeps) : 0.0, outputs.fallbacks(),
+                 outputs.mean_time_ms(), front_end.trajectory().PathLength(), out_dir.c_str());
+    guard.ThrowIfStopped("map", scans, out_dir);
+}
+
+}  // namespace dorado::apps

@@ -1,0 +1,351 @@
+// Several 2D radars into one map (the steps in multi_radar_front_end.hpp).
+#include "dorado/frontend/multi_radar_front_end.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "dorado/core/lie.hpp"
+#include "dorado/core/time.hpp"
+#include "dorado/mapping/measurements.hpp"
+#include "dorado/odometry/planar_ego_velocity.hpp"
+
+namespace dorado::frontend {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// One radar's scan waiting for its sweep to close: its finite points in its own frame.
+struct KeptScan {
+    std::size_t radar = 0;
+    int64_t stamp_ns = 0;
+    Eigen::Matrix3Xd xyz_radar;
+    Eigen::VectorXd power_db;
+    mapping::PointMask static_mask, moving_mask;
+};
+
+// The base's twist over [t, t + dt] from the filter's (v_x, v_y, yaw rate): a 6-vector
+// [v; omega] times dt (ExpSE3's [rho; phi]).
+Vector6d TwistStep(const Eigen::Vector3d &twist, double dt_s) {
+    Vector6d xi = Vector6d::Zero();
+    xi << twist(0) * dt_s, twist(1) * dt_s, 0.0, 0.0, 0.0, twist(2) * dt_s;
+    return xi;
+}
+
+// The filter's twist as the priors' BaseTwist. The plane's other three (v_z, roll and pitch
+// rates) are held by the planar mapper: small spreads keep the prior positive definite.
+mapping::BaseTwist PriorTwistOf(const Eigen::Vector3d &twist, const Eigen::Matrix3d &P,
+                                const VehicleVelocityPrior &velocity_prior) {
+    mapping::BaseTwist out;
+    out.v_base_mps << twist(0), twist(1), 0.0;
+    out.omega_base_radps << 0.0, 0.0, twist(2);
+    out.cov_v_base.setZero();
+    out.cov_v_base.topLeftCorner<2, 2>() = P.topLeftCorner<2, 2>();
+    out.cov_v_base(2, 2) = velocity_prior.sigma_vertical_mps * velocity_prior.sigma_vertical_mps;
+    out.cov_omega_base = Eigen::Vector3d(1e-4, 1e-4, P(2, 2)).asDiagonal();
+    return out;
+}
+
+}  // namespace
+
+struct MultiRadarFrontEnd::State {
+    State(FrontEndConfig c, std::vector<Eigen::Isometry3d> mounts, const Eigen::Isometry3d &imu,
+          const VehicleGeometry &g, odometry::PlanarTwistFilterConfig filter_config)
+        : config((c.Validate(), std::move(c))),
+          T_base_radars(std::move(mounts)),
+          T_base_imu(imu),
+          geometry(g),
+          estimator(config.odometry.ego_velocity),
+          filter(filter_config, g.velocity_prior),
+          mapper(config.mapper, Extrinsics{}, g) {
+        if (T_base_radars.empty()) throw std::invalid_argument("multi-radar front end: no radar");
+        if (config.odometry.ego_velocity.sensor.geometry == ScanGeometry::k3d)
+            throw std::invalid_argument(
+                "multi-radar front end: radar.geometry 3d: several radars are mapped in the plane "
+                "(2D radars); a 3-D radar maps alone (one radar, `folder:`)");
+        if (!config.run_mapper) throw std::invalid_argument("multi-radar front end: mapper off");
+        mapper.SetPlanar();
+    }
+
+    void Keep(std::size_t radar, const RadarScan &scan, const odometry::EgoVelocityResult &ego);
+    [[nodiscard]] Eigen::Vector3d RadarVelocity(std::size_t radar) const;
+    [[nodiscard]] RadarScan MergedCloud(int64_t stamp_ns, mapping::PointMask &static_mask,
+                                        mapping::PointMask &moving_mask) const;
+    [[nodiscard]] mapping::MotionPrior BuildPrior(int64_t stamp_ns, double dt_s,
+                                                  FrontEndResult &result) const;
+    FrontEndResult CloseSweep(int64_t stamp_ns);
+
+    FrontEndConfig config;
+    std::vector<Eigen::Isometry3d> T_base_radars;
+    Eigen::Isometry3d T_base_imu;
+    VehicleGeometry geometry;
+    odometry::PlanarEgoVelocityEstimator estimator;
+    odometry::PlanarTwistFilter filter;
+    mapping::RadarMapper mapper;
+    ImuWindow imu;
+    Trajectory trajectory;
+    std::vector<KeptScan> kept;
+    bool twist_measured_in_sweep = false;  // some radar updated the filter since the last sweep
+    int sweeps = 0;
+    int64_t last_sweep_ns = 0;
+    double last_dt_s = 0.0;
+    Eigen::Isometry3d T_prev = Eigen::Isometry3d::Identity(), T_prev2 = T_prev;
+    Eigen::Isometry3d T_odometry = Eigen::Isometry3d::Identity();
+    std::optional<mapping::BaseTwist> last_twist;
+};
+
+// The radar's velocity in its own frame from the filter's twist: R^T [1 0 -s_y; 0 1 s_x] x.
+Eigen::Vector3d MultiRadarFrontEnd::State::RadarVelocity(std::size_t radar) const {
+    const Eigen::Isometry3d &T = T_base_radars[radar];
+    const Eigen::Vector3d x = filter.twist();
+    const Eigen::Vector3d s = T.translation();
+    const Eigen::Vector3d v_base(x(0) - x(2) * s.y(), x(1) + x(2) * s.x(), 0.0);
+    return T.linear().transpose() * v_base;
+}
+
+// The scan's finite points and their labels: the radar's own mask when its ego-velocity is
+// valid; else, once the filter knows the twist, the points whose Doppler agrees with what the
+// twist predicts for a static point at this radar (within the movers' min_radial_speed_mps);
+// else none (a radar that saw only movers adds nothing).
+void MultiRadarFrontEnd::State::Keep(std::size_t radar, const RadarScan &scan,
+                                     const odometry::EgoVelocityResult &ego) {
+    const double min_speed = config.mapper.movers.min_radial_speed_mps;
+    const bool filter_knows = filter.stamp_ns().has_value() && filter.covariance()(0, 0) < 1.0;
+    const Eigen::Vector3d v_radar = ego.valid() ? ego.v_radar_mps : RadarVelocity(radar);
+    KeptScan k;
+    k.radar = radar;
+    k.stamp_ns = scan.stamp_ns;
+    std::vector<Eigen::Index> finite;
+    for (Eigen::Index i = 0; i < scan.size(); ++i)
+        if (scan.xyz_radar.col(i).allFinite() && scan.xyz_radar.col(i).norm() > 0.0)
+            finite.push_back(i);
+    const auto n = static_cast<Eigen::Index>(finite.size());
+    k.xyz_radar.resize(3, n);
+    k.power_db.resize(n);
+    k.static_mask.resize(n);
+    k.moving_mask.resize(n);
+    for (Eigen::Index j = 0; j < n; ++j) {
+        const Eigen::Index i = finite[static_cast<std::size_t>(j)];
+        k.xyz_radar.col(j) = scan.xyz_radar.col(i);
+        k.power_db(j) = scan.power_db.size() > i ? scan.power_db(i) : 0.0;
+        const double residual =
+            scan.doppler_mps(i) + scan.xyz_radar.col(i).normalized().dot(v_radar);
+        const bool seen_moving = std::isfinite(residual) && std::abs(residual) > min_speed;
+        if (ego.valid()) {
+            const bool is_static =
+                ego.labels[static_cast<std::size_t>(i)] == odometry::PointLabel::kStatic;
+            k.static_mask(j) = is_static;
+            k.moving_mask(j) = !is_static && seen_moving;
+        } else {
+            k.static_mask(j) = filter_knows && std::isfinite(residual) && !seen_moving;
+            k.moving_mask(j) = filter_knows && seen_moving;
+        }
+    }
+    kept.push_back(std::move(k));
+}
+
+// Every kept scan's points in the base frame at stamp_ns: p = ExpSE3(xi (t_j - t)) T_base_radar p_j
+// (the base moved with the filter's twist between the scan's stamp and the sweep's).
+RadarScan MultiRadarFrontEnd::State::MergedCloud(int64_t stamp_ns, mapping::PointMask &static_mask,
+                                                 mapping::PointMask &moving_mask) const {
+    Eigen::Index n = 0;
+    for (const KeptScan &k : kept) n += k.xyz_radar.cols();
+    RadarScan merged;
+    merged.Resize(n);
+    merged.stamp_ns = stamp_ns;
+    merged.frame_id = "base";
+    merged.has_power = true;
+    static_mask.resize(n);
+    moving_mask.resize(n);
+    Eigen::Index at = 0;
+    for (const KeptScan &k : kept) {
+        const Eigen::Isometry3d T_sweep_radar =
+            ExpSE3(TwistStep(filter.twist(), NanosToSeconds(k.stamp_ns - stamp_ns))) *
+            T_base_radars[k.radar];
+        const Eigen::Index m = k.xyz_radar.cols();
+        merged.xyz_radar.middleCols(at, m) = T_sweep_radar * k.xyz_radar;
+        merged.power_db.segment(at, m) = k.power_db;
+        static_mask.segment(at, m) = k.static_mask;
+        moving_mask.segment(at, m) = k.moving_mask;
+        at += m;
+    }
+    // The radars' Doppler is each radar's own: the mapper's Doppler residuals (one sensor) skip it.
+    merged.doppler_mps.setConstant(std::numeric_limits<double>::quiet_NaN());
+    merged.DeriveSphericalFromXyz();
+    return merged;
+}
+
+mapping::MotionPrior MultiRadarFrontEnd::State::BuildPrior(int64_t stamp_ns, double dt_s,
+                                                           FrontEndResult &result) const {
+    using mapping::PriorKind;
+    const PriorKind kind = config.prior;
+    result.prior_requested = kind;
+    result.prior_used = kind;
+    if (sweeps == 0) {  // the first sweep defines the world
+        mapping::MotionPrior prior;
+        prior.covariance = Matrix6d::Identity() * 1e-6;
+        prior.kind = kind;
+        result.prior_first_scan = true;
+        return prior;
+    }
+    const mapping::PriorNoiseConfig &noise = config.prior_noise;
+    const bool has_two = sweeps >= 2 && last_dt_s > 0.0;
+    std::optional<mapping::MotionPrior> built;
+    PriorSubstitution why_not = PriorSubstitution::kNone;
+    const mapping::BaseTwist now =
+        PriorTwistOf(filter.twist(), filter.covariance(), geometry.velocity_prior);
+    const mapping::BaseTwist interval =
+        (noise.doppler_integration == mapping::TwistIntegration::kTrapezoid && last_twist &&
+         dt_s <= 1.5 * last_dt_s)
+            ? mapping::TrapezoidTwist(*last_twist, now)
+            : now;
+    const std::vector<ImuSample> samples = imu.samples();
+    switch (kind) {
+        case PriorKind::kNone:
+            built = mapping::PriorFromPreviousPose(T_prev, noise);
+            break;
+        case PriorKind::kConstVel:
+            break;  // below
+        case PriorKind::kImu: {
+            const Eigen::Vector3d v_world =
+                has_two
+                    ? Eigen::Vector3d((T_prev.translation() - T_prev2.translation()) / last_dt_s)
+                    : Eigen::Vector3d::Zero();
+            built = mapping::PriorFromImu(T_prev, v_world, samples, last_sweep_ns, stamp_ns,
+                                          T_base_imu, noise);
+            if (!built) why_not = PriorSubstitution::kNoImuSamples;
+            break;
+        }
+        case PriorKind::kDoppler:
+        case PriorKind::kImuDoppler:
+            if (!twist_measured_in_sweep) {
+                why_not = PriorSubstitution::kInvalidDopplerVelocity;
+            } else if (kind == PriorKind::kDoppler) {
+                built = mapping::PriorFromDoppler(T_prev, interval, dt_s, noise);
+            } else {
+                built =
+                    mapping::PriorFromImuAndDoppler(T_prev, interval, samples, last_sweep_ns + 1,
+                                                    stamp_ns, T_base_imu, dt_s, noise);
+                if (!built) why_not = PriorSubstitution::kNoImuSamples;
+            }
+            break;
+    }
+    if (!built) {
+        if (kind != PriorKind::kConstVel) {
+            result.prior_used = PriorKind::kConstVel;
+            result.prior_substitution = why_not;
+            if (why_not == PriorSubstitution::kInvalidDopplerVelocity)
+                result.prior_substitution_detail = "no radar's ego-velocity updated the twist";
+        }
+        built = has_two ? mapping::PriorConstantVelocity(T_prev2, T_prev, last_dt_s, dt_s, noise)
+                        : mapping::PriorFromPreviousPose(T_prev, noise);
+    }
+    return *built;
+}
+
+FrontEndResult MultiRadarFrontEnd::State::CloseSweep(int64_t stamp_ns) {
+    const auto t_start = Clock::now();
+    FrontEndResult result;
+    result.stamp_ns = stamp_ns;
+    result.accepted = true;
+    result.dt_s = sweeps == 0 ? 0.0 : NanosToSeconds(stamp_ns - last_sweep_ns);
+    const double dt_s = sweeps == 0 ? mapping::kFirstScanIntervalS : result.dt_s;
+    const mapping::BaseTwist now =
+        PriorTwistOf(filter.twist(), filter.covariance(), geometry.velocity_prior);
+    result.twist_base.v_base_mps = now.v_base_mps;
+    result.twist_base.omega_base_radps = now.omega_base_radps;
+    result.twist_base.covariance.setZero();
+    result.twist_base.covariance.topLeftCorner<3, 3>() = now.cov_v_base;
+    result.twist_base.covariance.bottomRightCorner<3, 3>() = now.cov_omega_base;
+    if (sweeps > 0) T_odometry = T_odometry * ExpSE3(TwistStep(filter.twist(), result.dt_s));
+    result.T_world_base_odometry = T_odometry;
+
+    const auto t_prior = Clock::now();
+    result.prior = BuildPrior(stamp_ns, dt_s, result);
+    result.times.prior_ms = MillisecondsSince(t_prior);
+    mapping::MapperInput input;
+    input.prior = result.prior;
+    input.dt_s = dt_s;
+    mapping::PointMask static_mask, moving_mask;
+    const RadarScan merged = MergedCloud(stamp_ns, static_mask, moving_mask);
+    if (config.use_mask) {
+        input.static_mask = static_mask;
+        input.moving_mask = moving_mask;
+        result.static_mask = static_mask;
+    }
+    result.registration = mapper.Register(merged, input);
+    result.times.mapper = result.registration.times;
+    result.T_world_base = result.registration.T_world_base;
+    result.times.total_ms = MillisecondsSince(t_start);
+
+    trajectory.Append(stamp_ns, result.T_world_base);
+    T_prev2 = T_prev;
+    T_prev = result.T_world_base;
+    last_dt_s = result.dt_s;
+    if (twist_measured_in_sweep)
+        last_twist = now;
+    else
+        last_twist.reset();
+    twist_measured_in_sweep = false;
+    ++sweeps;
+    last_sweep_ns = stamp_ns;
+    kept.clear();
+    imu.DropUpTo(stamp_ns - 1);
+    return result;
+}
+
+MultiRadarFrontEnd::MultiRadarFrontEnd(FrontEndConfig config,
+                                       std::vector<Eigen::Isometry3d> T_base_radars,
+                                       const Eigen::Isometry3d &T_base_imu,
+                                       const VehicleGeometry &geometry,
+                                       odometry::PlanarTwistFilterConfig twist_filter)
+    : state_(std::make_unique<State>(std::move(config), std::move(T_base_radars), T_base_imu,
+                                     geometry, twist_filter)) {}
+MultiRadarFrontEnd::~MultiRadarFrontEnd() = default;
+MultiRadarFrontEnd::MultiRadarFrontEnd(MultiRadarFrontEnd &&) noexcept = default;
+MultiRadarFrontEnd &MultiRadarFrontEnd::operator=(MultiRadarFrontEnd &&) noexcept = default;
+
+void MultiRadarFrontEnd::AddImu(const ImuSample &sample) {
+    state_->imu.Add(sample);
+}
+
+RadarScanStep MultiRadarFrontEnd::Process(std::size_t radar, const RadarScan &scan_radar) {
+    State &s = *state_;
+    if (radar >= s.T_base_radars.size())
+        throw std::out_of_range("multi-radar front end: radar index " + std::to_string(radar) +
+                                " of " + std::to_string(s.T_base_radars.size()));
+    RadarScanStep step;
+    step.radar = radar;
+    step.stamp_ns = scan_radar.stamp_ns;
+    const bool reference = radar == 0;
+    if (s.sweeps > 0 && (scan_radar.stamp_ns < s.last_sweep_ns ||
+                         (reference && scan_radar.stamp_ns == s.last_sweep_ns))) {
+        step.skip_reason = "stamp " + std::to_string(scan_radar.stamp_ns) +
+                           " ns not after the last sweep's " + std::to_string(s.last_sweep_ns);
+        return step;
+    }
+    step.accepted = true;
+    step.ego = s.estimator.Estimate(scan_radar);
+    step.twist_update = s.filter.Update(scan_radar.stamp_ns, s.T_base_radars[radar], step.ego);
+    s.twist_measured_in_sweep |= step.twist_update == odometry::TwistUpdate::kTaken ||
+                                 step.twist_update == odometry::TwistUpdate::kRestarted;
+    step.twist = s.filter.twist();
+    step.twist_covariance = s.filter.covariance();
+    s.Keep(radar, scan_radar, step.ego);
+    if (reference) {
+        std::vector<bool> seen(s.T_base_radars.size(), false);
+        for (const KeptScan &k : s.kept) seen[k.radar] = true;
+        for (bool b : seen) step.sweep_radars += b ? 1 : 0;
+        step.sweep = s.CloseSweep(scan_radar.stamp_ns);
+    }
+    return step;
+}
+
+const Trajectory &MultiRadarFrontEnd::trajectory() const {
+    return state_->trajectory;
+}
+std::size_t MultiRadarFrontEnd::radars() const {
+    return state_->T_base_radars.size();
+}
+
+}  // namespace dorado::frontend
