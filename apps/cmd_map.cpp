@@ -20,7 +20,7 @@ namespace {
 
 struct MapOptions {
     std::string dataset, out, config, odometry_config, prior = "doppler", refine, radars = "all";
-    bool no_mask = false, masks = false;
+    bool no_mask = false, masks = false, fixed_mounts = false;
 };
 
 // DIR/masks/NNNNNN.txt: what the map used of each point (the odometry's labels, and 3 for the
@@ -76,7 +76,9 @@ void RunMap(const MapOptions &opt) {
             throw io::ConfigError(
                 "refinement window: a 6-DoF smoother; several radars map in the "
                 "plane (ceres, none or filter)");
-        RunMultiRadarMap(dataset, config, opt.out);
+        odometry::PlanarTwistFilterConfig twist_filter;
+        twist_filter.calibrate_mount_yaw = !opt.fixed_mounts;
+        RunMultiRadarMap(dataset, config, twist_filter, opt.out);
         return;
     }
     const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "map");
@@ -146,6 +148,9 @@ void RegisterMapCommand(CLI::App &app) {
                     "with the dataset's radars: list: all (default: every radar into one map, "
                     "each at its own time) or first (the folder: + extrinsics: radar alone)")
         ->check(CLI::IsMember({"all", "first"}));
+    cmd->add_flag("--fixed-mounts", opt->fixed_mounts,
+                  "with several radars: keep the published mounts (default: each radar's mount "
+                  "yaw is estimated while running, reported in summary.json and mounts.yaml)");
     cmd->add_flag("--no-mask", opt->no_mask, "keep the dynamic points (ablation)");
     cmd->add_flag("--masks", opt->masks,
                   "write DIR/masks/NNNNNN.txt: per point 0 static, 1 dynamic, 2 filtered, 3 kept "

@@ -1,69 +1,45 @@
 // `dorado twist DATASET --out DIR`: the vehicle's planar twist (v_x, v_y, yaw rate) from every
-// radar's Doppler jointly (Kellner et al. ICRA 2014), for a dataset description with a `radars:`
-// list (several 2D radars on one vehicle). The first radar's scans set the times; each other
-// radar's nearest scan within --max-dt joins. Next to it, the first radar's own kinematic twist
-// (eq. 5 in the plane), for comparison.
+// radar of a dataset's `radars:` list (several 2D radars on one vehicle), each radar's scan at its
+// own time: a Kalman filter on the base twist updated by each radar's own ego-velocity at its
+// stamp (odometry::PlanarTwistFilter; radars at different places observe the yaw rate together,
+// Kellner et al. ICRA 2014, without pairing scans of different instants), dead-reckoned into a
+// trajectory. Next to it, the first radar's own kinematic twist (eq. 5 in the plane).
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "commands.hpp"
 #include "dorado/config/odometry_config.hpp"
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 #include "dorado/core/time.hpp"
 #include "dorado/core/trajectory.hpp"
 #include "dorado/io/atomic_file.hpp"
 #include "dorado/io/dataset.hpp"
 #include "dorado/io/trajectory_io.hpp"
-#include "dorado/odometry/multi_radar_twist.hpp"
 #include "dorado/odometry/planar_ego_velocity.hpp"
 #include "dorado/odometry/planar_kinematic_model.hpp"
+#include "dorado/odometry/planar_twist_filter.hpp"
+#include "multi_radar_map.hpp"
+#include "progress.hpp"
 #include "scan_loop.hpp"
+#include "skip_log.hpp"
+#include "stream_guard.hpp"
 
 namespace dorado::apps {
 namespace {
 
 struct TwistOptions {
     std::string dataset, out, config;
-    double max_dt_s = 0.04;
+    bool fixed_mounts = false;
 };
 
-struct RadarRun {
-    std::string name;
-    Eigen::Isometry3d T_base_radar = Eigen::Isometry3d::Identity();
-    std::vector<RadarScan> scans;
-    std::vector<odometry::EgoVelocityResult> egos;
+struct RadarCounts {
+    int scans = 0, ego_valid = 0;
+    std::map<odometry::TwistUpdate, int> updates;
 };
-
-RadarRun ReadRadar(const io::DatasetConfig &one, const std::string &name,
-                   const odometry::PlanarEgoVelocityEstimator &estimator) {
-    RadarRun run;
-    run.name = name;
-    run.T_base_radar = one.extrinsics.T_base_radar;
-    auto reader = io::OpenDataset(one);
-    io::DatasetEvent event;
-    while (reader->Next(event)) {
-        if (event.kind != io::DatasetEvent::Kind::kRadarScan) continue;
-        run.egos.push_back(estimator.Estimate(event.scan));
-        run.scans.push_back(std::move(event.scan));
-    }
-    return run;
-}
-
-// The scan of `run` nearest to stamp_ns within max_dt_s, or -1.
-long Nearest(const RadarRun &run, int64_t stamp_ns, double max_dt_s) {
-    long best = -1;
-    double best_dt = max_dt_s;
-    for (std::size_t i = 0; i < run.scans.size(); ++i) {
-        const double dt = std::abs(NanosToSeconds(run.scans[i].stamp_ns - stamp_ns));
-        if (dt <= best_dt) {
-            best_dt = dt;
-            best = static_cast<long>(i);
-        }
-    }
-    return best;
-}
 
 void RunTwist(const TwistOptions &opt) {
     const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset);
@@ -75,67 +51,101 @@ void RunTwist(const TwistOptions &opt) {
     if (!opt.config.empty()) config = dorado::config::LoadOdometryConfig(opt.config);
     config.ego_velocity.sensor = dataset.radar;
     const odometry::PlanarEgoVelocityEstimator estimator(config.ego_velocity);
-    std::vector<RadarRun> radars;
-    for (std::size_t k = 0; k < dataset.radars.size(); ++k)
-        radars.push_back(ReadRadar(io::ForRadar(dataset, k), dataset.radars[k].name, estimator));
-    const RadarRun &reference = radars.front();
-    const odometry::PlanarKinematicModel kinematic(Extrinsics{reference.T_base_radar},
+    odometry::PlanarTwistFilterConfig filter_config;
+    filter_config.calibrate_mount_yaw = !opt.fixed_mounts;
+    std::vector<Eigen::Isometry3d> mounts;
+    for (const io::RadarStream &radar : dataset.radars) mounts.push_back(radar.T_base_radar);
+    odometry::PlanarTwistFilter filter(filter_config, dataset.vehicle.velocity_prior, mounts);
+    const odometry::PlanarKinematicModel kinematic(Extrinsics{dataset.radars[0].T_base_radar},
                                                    dataset.vehicle);
 
     io::MakeDirectories(opt.out);
     std::ostringstream csv;
     csv.precision(9);
-    csv << "t,valid,v_x,v_y,omega_z,sd_v_x,sd_v_y,sd_omega_z,radars_used,points_used,"
-           "residual_sigma_mps,kinematic_valid,kinematic_v_x,kinematic_omega_z\n";
+    csv << "t,radar,valid,update,v_x,v_y,omega_z,sd_v_x,sd_v_y,sd_omega_z,nis,kinematic_valid,"
+           "kinematic_v_x,kinematic_omega_z\n";
     Trajectory trajectory;
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    Eigen::Vector3d last = Eigen::Vector3d::Zero();
-    int valid = 0;
-    double radars_used = 0.0;
-    for (std::size_t i = 0; i < reference.scans.size(); ++i) {
-        const int64_t stamp = reference.scans[i].stamp_ns;
-        std::vector<odometry::RadarObservation> observations;
-        observations.push_back({&reference.scans[i], reference.T_base_radar, &reference.egos[i]});
-        for (std::size_t k = 1; k < radars.size(); ++k) {
-            const long j = Nearest(radars[k], stamp, opt.max_dt_s);
-            if (j >= 0)
-                observations.push_back(
-                    {&radars[k].scans[j], radars[k].T_base_radar, &radars[k].egos[j]});
+    Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
+    std::optional<int64_t> last_stamp;
+    std::vector<RadarCounts> counts(dataset.radars.size());
+    std::size_t expected = 0;
+    for (std::size_t k = 0; k < dataset.radars.size(); ++k)
+        expected += CountRadarMessages(io::ForRadar(dataset, k), false, "");
+    auto reader = io::OpenRadars(dataset);
+    Progress progress("twist", expected);
+    SkipLog skips;
+    StreamGuard guard;
+    io::DatasetEvent event;
+    std::size_t scans = 0, valid = 0;
+    while (guard.Next(*reader, event)) {
+        if (event.kind == io::DatasetEvent::Kind::kBadScan) {
+            ++scans;
+            skips.Add(event.scan_index, "unreadable scan",
+                      "radar " + dataset.radars[event.radar].name + ": " + event.problem);
         }
-        const odometry::PlanarTwist twist = odometry::EstimatePlanarTwist(observations);
-        const odometry::EgoVelocityResult &ego = reference.egos[i];
+        if (event.kind != io::DatasetEvent::Kind::kRadarScan) continue;
+        progress.Update(++scans);
+        const int64_t stamp = event.scan.stamp_ns;
+        if (last_stamp && stamp < *last_stamp) {
+            skips.Add(event.scan_index, "timestamp out of order",
+                      "radar " + dataset.radars[event.radar].name);
+            continue;
+        }
+        // Dead reckoning: the interval since the previous scan (any radar's) at the twist before
+        // this scan's update (the filter's estimate over that interval).
+        if (last_stamp)
+            T_world_base = T_world_base * ExpSE3([&] {
+                               const double dt = NanosToSeconds(stamp - *last_stamp);
+                               const Eigen::Vector3d x = filter.twist();
+                               Vector6d xi = Vector6d::Zero();
+                               xi << x(0) * dt, x(1) * dt, 0.0, 0.0, 0.0, x(2) * dt;
+                               return xi;
+                           }());
+        last_stamp = stamp;
+        const odometry::EgoVelocityResult ego = estimator.Estimate(event.scan);
+        const odometry::TwistUpdate update = filter.Update(stamp, event.radar, ego);
+        RadarCounts &c = counts[event.radar];
+        ++c.scans;
+        c.ego_valid += ego.valid();
+        c.updates[update]++;
+        const bool ok = filter.covariance()(2, 2) < 0.01;  // the yaw rate known to ~6 deg/s
+        valid += ok;
+        if (event.radar == 0) trajectory.Append(stamp, T_world_base);
         odometry::VehicleMotion motion;
-        if (ego.valid()) motion = kinematic.Motion(ego.v_radar_mps, ego.cov_v_radar);
-        if (i > 0) {  // integrate the previous interval with the newest twist
-            const double dt = NanosToSeconds(stamp - reference.scans[i - 1].stamp_ns);
-            Vector6d xi = Vector6d::Zero();
-            xi << last(0) * dt, last(1) * dt, 0.0, 0.0, 0.0, last(2) * dt;
-            T = T * ExpSE3(xi);
-        }
-        if (twist.valid()) last = twist.twist;
-        trajectory.Append(stamp, T);
-        valid += twist.valid();
-        radars_used += twist.radars_used;
-        csv << NanosToSeconds(stamp) << ',' << twist.valid() << ',' << twist.twist(0) << ','
-            << twist.twist(1) << ',' << twist.twist(2) << ',' << std::sqrt(twist.covariance(0, 0))
-            << ',' << std::sqrt(twist.covariance(1, 1)) << ',' << std::sqrt(twist.covariance(2, 2))
-            << ',' << twist.radars_used << ',' << twist.points_used << ','
-            << twist.residual_sigma_mps << ',' << ego.valid() << ',' << motion.v_base_mps.x() << ','
+        const bool kinematic_valid = event.radar == 0 && ego.valid();
+        if (kinematic_valid) motion = kinematic.Motion(ego.v_radar_mps, ego.cov_v_radar);
+        const Eigen::Vector3d x = filter.twist();
+        const Eigen::Matrix3d &P = filter.covariance();
+        csv << NanosToSeconds(stamp) << ',' << event.radar << ',' << ok << ','
+            << odometry::ToString(update) << ',' << x(0) << ',' << x(1) << ',' << x(2) << ','
+            << std::sqrt(P(0, 0)) << ',' << std::sqrt(P(1, 1)) << ',' << std::sqrt(P(2, 2)) << ','
+            << filter.last_nis() << ',' << kinematic_valid << ',' << motion.v_base_mps.x() << ','
             << motion.omega_base_radps.z() << '\n';
     }
+    progress.Finish();
+    skips.PrintSummary();
     io::WriteFileAtomically(opt.out + "/twist.csv", [&](std::ostream &os) { os << csv.str(); });
     io::WriteTum(opt.out + "/trajectory.tum", trajectory);
-    const std::size_t n = reference.scans.size();
+    WriteCalibratedMounts(opt.out, dataset, filter);
+    nlohmann::json radars = nlohmann::json::array();
+    for (std::size_t k = 0; k < dataset.radars.size(); ++k)
+        radars.push_back({{"name", dataset.radars[k].name},
+                          {"scans", counts[k].scans},
+                          {"ego_velocity_valid", counts[k].ego_valid},
+                          {"twist_updates", CountsByKey(counts[k].updates)}});
+    for (std::size_t k = 0; k < dataset.radars.size(); ++k)
+        radars[k].update(MountRecord(filter, k));
     nlohmann::json summary = {{"dataset", dataset.name},
-                              {"radars", dataset.radars.size()},
-                              {"scans", n},
+                              {"radars", radars},
+                              {"scans", scans},
                               {"scans_valid", valid},
-                              {"radars_used_mean", n > 0 ? radars_used / n : 0.0},
+                              {"skip_reasons", skips.Counts()},
+                              {"skipped", skips.Scans()},
                               {"path_length_m", trajectory.PathLength()}};
     WriteSummary(opt.out, summary);
-    std::fprintf(stderr,
-                 "twist: %zu scans of %s, %d with a joint twist (%.2f radars each), -> %s\n", n,
-                 reference.name.c_str(), valid, n > 0 ? radars_used / n : 0.0, opt.out.c_str());
+    std::fprintf(stderr, "twist: %zu scans of %zu radars, %zu with a known yaw rate -> %s\n", scans,
+                 dataset.radars.size(), valid, opt.out.c_str());
+    guard.ThrowIfStopped("twist", scans, opt.out);
 }
 
 }  // namespace
@@ -144,14 +154,16 @@ void RegisterTwistCommand(CLI::App &app) {
     auto opt = std::make_shared<TwistOptions>();
     auto *cmd = app.add_subcommand(
         "twist",
-        "The vehicle's planar twist from several 2D radars' Doppler jointly (Kellner et al. "
-        "2014): twist.csv, trajectory.tum, summary.json; needs the dataset's radars: list");
+        "The vehicle's planar twist from several 2D radars' Doppler, each radar at its own time "
+        "(a Kalman filter on the twist): twist.csv, trajectory.tum, summary.json; needs the "
+        "dataset's radars: list");
     cmd->add_option("DATASET", opt->dataset, "dataset description (.yaml) with radars:")
         ->required();
     cmd->add_option("--out", opt->out, "output folder")->required();
     cmd->add_option("--config", opt->config, "odometry settings (its ego_velocity section)");
-    cmd->add_option("--max-dt", opt->max_dt_s,
-                    "the other radars' scans within this many seconds of the first's [s]");
+    cmd->add_flag("--fixed-mounts", opt->fixed_mounts,
+                  "keep the published mounts (default: each radar's mount yaw is estimated while "
+                  "running, reported in summary.json)");
     cmd->callback([opt] { RunTwist(*opt); });
 }
 

@@ -4,6 +4,8 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "dorado/core/angles.hpp"
+#include "dorado/core/lie.hpp"
 #include "dorado/frontend/multi_radar_front_end.hpp"
 #include "dorado/io/atomic_file.hpp"
 #include "dorado/io/dataset.hpp"
@@ -30,10 +32,42 @@ std::vector<Eigen::Isometry3d> Mounts(const io::DatasetConfig &dataset) {
 
 }  // namespace
 
+nlohmann::json MountRecord(const odometry::PlanarTwistFilter &filter, std::size_t k) {
+    return {{"mount_yaw_calibrated", filter.mount_yaw_sigma_rad(k) > 0.0},
+            {"mount_yaw_offset_deg", RadToDeg(filter.mount_yaw_offset_rad(k))},
+            {"mount_yaw_sigma_deg", RadToDeg(filter.mount_yaw_sigma_rad(k))}};
+}
+
+void WriteCalibratedMounts(const std::string &out_dir, const io::DatasetConfig &dataset,
+                           const odometry::PlanarTwistFilter &filter) {
+    io::WriteFileAtomically(out_dir + "/mounts.yaml", [&](std::ostream &os) {
+        os.precision(10);
+        os << "# The radars' mounts as calibrated by this run (the published yaw plus the "
+              "estimated "
+              "offset,\n# 1-sigma in the comment): paste into the dataset description's radars: "
+              "list.\nradars:\n";
+        for (std::size_t k = 0; k < dataset.radars.size(); ++k) {
+            const io::RadarStream &radar = dataset.radars[k];
+            const Eigen::Isometry3d T = filter.T_base_radar(k);
+            const Eigen::Vector3d rpy = RollPitchYaw(T.linear());
+            const Eigen::Vector3d t = T.translation();
+            os << "  - name: " << radar.name << "  # yaw offset "
+               << RadToDeg(filter.mount_yaw_offset_rad(k)) << " +- "
+               << RadToDeg(filter.mount_yaw_sigma_rad(k)) << " deg\n"
+               << "    scans_dir: " << radar.scans_dir << "\n"
+               << "    timestamps_file: " << radar.timestamps_file << "\n"
+               << "    T_base_radar: {translation_m: [" << t.x() << ", " << t.y() << ", " << t.z()
+               << "], rotation_rpy_deg: [" << RadToDeg(rpy.x()) << ", " << RadToDeg(rpy.y()) << ", "
+               << RadToDeg(rpy.z()) << "]}\n";
+        }
+    });
+}
+
 void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEndConfig &config,
+                      const odometry::PlanarTwistFilterConfig &twist_filter,
                       const std::string &out_dir) {
     frontend::MultiRadarFrontEnd front_end(config, Mounts(dataset), dataset.extrinsics.T_base_imu,
-                                           dataset.vehicle);
+                                           dataset.vehicle, twist_filter);
     io::MakeDirectories(out_dir);
     auto reader = io::OpenRadars(dataset);
     std::size_t expected = 0;
@@ -84,6 +118,7 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
     guard.ThrowIfNoScanUsed(sweeps, reader->source());
 
     outputs.Write(out_dir, front_end.trajectory());
+    WriteCalibratedMounts(out_dir, dataset, front_end.twist_filter());
     nlohmann::json radars = nlohmann::json::array();
     for (std::size_t k = 0; k < dataset.radars.size(); ++k) {
         const RadarCounts &c = counts[k];
@@ -92,6 +127,7 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
                           {"skipped", c.skipped},
                           {"ego_velocity_valid", c.ego_valid},
                           {"twist_updates", CountsByKey(c.updates)}});
+        radars.back().update(MountRecord(front_end.twist_filter(), k));
     }
     nlohmann::json summary = {
         {"dataset", dataset.name},

@@ -56,7 +56,7 @@ struct MultiRadarFrontEnd::State {
           T_base_imu(imu),
           geometry(g),
           estimator(config.odometry.ego_velocity),
-          filter(filter_config, g.velocity_prior),
+          filter(filter_config, g.velocity_prior, T_base_radars),
           mapper(config.mapper, Extrinsics{}, g) {
         if (T_base_radars.empty()) throw std::invalid_argument("multi-radar front end: no radar");
         if (config.odometry.ego_velocity.sensor.geometry == ScanGeometry::k3d)
@@ -96,7 +96,7 @@ struct MultiRadarFrontEnd::State {
 
 // The radar's velocity in its own frame from the filter's twist: R^T [1 0 -s_y; 0 1 s_x] x.
 Eigen::Vector3d MultiRadarFrontEnd::State::RadarVelocity(std::size_t radar) const {
-    const Eigen::Isometry3d &T = T_base_radars[radar];
+    const Eigen::Isometry3d T = filter.T_base_radar(radar);
     const Eigen::Vector3d x = filter.twist();
     const Eigen::Vector3d s = T.translation();
     const Eigen::Vector3d v_base(x(0) - x(2) * s.y(), x(1) + x(2) * s.x(), 0.0);
@@ -161,7 +161,7 @@ RadarScan MultiRadarFrontEnd::State::MergedCloud(int64_t stamp_ns, mapping::Poin
     for (const KeptScan &k : kept) {
         const Eigen::Isometry3d T_sweep_radar =
             ExpSE3(TwistStep(filter.twist(), NanosToSeconds(k.stamp_ns - stamp_ns))) *
-            T_base_radars[k.radar];
+            filter.T_base_radar(k.radar);
         const Eigen::Index m = k.xyz_radar.cols();
         merged.xyz_radar.middleCols(at, m) = T_sweep_radar * k.xyz_radar;
         merged.power_db.segment(at, m) = k.power_db;
@@ -326,7 +326,7 @@ RadarScanStep MultiRadarFrontEnd::Process(std::size_t radar, const RadarScan &sc
     }
     step.accepted = true;
     step.ego = s.estimator.Estimate(scan_radar);
-    step.twist_update = s.filter.Update(scan_radar.stamp_ns, s.T_base_radars[radar], step.ego);
+    step.twist_update = s.filter.Update(scan_radar.stamp_ns, radar, step.ego);
     s.twist_measured_in_sweep |= step.twist_update == odometry::TwistUpdate::kTaken ||
                                  step.twist_update == odometry::TwistUpdate::kRestarted;
     step.twist = s.filter.twist();
@@ -343,6 +343,9 @@ RadarScanStep MultiRadarFrontEnd::Process(std::size_t radar, const RadarScan &sc
 
 const Trajectory &MultiRadarFrontEnd::trajectory() const {
     return state_->trajectory;
+}
+const odometry::PlanarTwistFilter &MultiRadarFrontEnd::twist_filter() const {
+    return state_->filter;
 }
 std::size_t MultiRadarFrontEnd::radars() const {
     return state_->T_base_radars.size();

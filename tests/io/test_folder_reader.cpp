@@ -308,5 +308,50 @@ TEST_F(FolderReaderTest, ShippedBinLayoutsRefuseFilesOfAnotherWidth) {
     }
 }
 
+// Several radars (the radars: list) read as one stream in time order, each event naming its
+// radar; a radar on another clock is refused by name.
+TEST_F(FolderReaderTest, RadarsAreMergedInTimeOrderAndAnotherClockIsRefused) {
+    const auto write_radar = [&](const std::string &name, const std::vector<double> &times) {
+        fs::create_directories(dir_ / name);
+        std::ofstream stamps(dir_ / (name + ".txt"));
+        for (std::size_t i = 0; i < times.size(); ++i) {
+            stamps << times[i] << "\n";
+            std::ofstream out(dir_ / name / Name(i), std::ios::binary);
+            const float row[4] = {10.0F, 1.0F, 0.0F, -2.0F};
+            out.write(reinterpret_cast<const char *>(row), sizeof(row));
+        }
+    };
+    write_radar("front", {0.10, 0.20, 0.30});
+    write_radar("left", {0.05, 0.15, 0.25, 0.35});
+    DatasetConfig config = ColumnsConfig(4);
+    for (const std::string name : {"front", "left"})
+        config.radars.push_back({name, (dir_ / name).string(), (dir_ / (name + ".txt")).string(),
+                                 Eigen::Isometry3d::Identity()});
+    config.folder.scans_dir = config.radars[0].scans_dir;
+    config.folder.timestamps_file = config.radars[0].timestamps_file;
+    auto reader = OpenRadars(config);
+    std::vector<std::pair<int64_t, std::size_t>> order;
+    DatasetEvent e;
+    while (reader->Next(e)) {
+        ASSERT_EQ(e.kind, DatasetEvent::Kind::kRadarScan);
+        order.emplace_back(e.stamp_ns, e.radar);
+    }
+    const std::vector<std::pair<int64_t, std::size_t>> expected = {
+        {50000000, 1}, {100000000, 0}, {150000000, 1}, {200000000, 0},
+        {250000000, 1}, {300000000, 0}, {350000000, 1}};
+    EXPECT_EQ(order, expected);
+
+    write_radar("late", {1000.0, 1000.1});  // seconds since boot beside 0.1 s: another clock
+    config.radars.push_back({"late", (dir_ / "late").string(), (dir_ / "late.txt").string(),
+                             Eigen::Isometry3d::Identity()});
+    try {
+        (void)OpenRadars(config);
+        FAIL() << "a radar on another clock was merged";
+    } catch (const DatasetError &error) {
+        EXPECT_NE(std::string(error.what()).find("radar 'late'"), std::string::npos)
+            << error.what();
+    }
+}
+
 }  // namespace
 }  // namespace dorado::io

@@ -67,6 +67,8 @@ class MultiRadarFrontEnd {
     /// One pose per closed sweep (T_world_base at the reference radar's stamps).
     [[nodiscard]] const Trajectory &trajectory() const;
     [[nodiscard]] std::size_t radars() const;
+    /// The twist filter: the twist now, and each radar's mount as calibrated so far.
+    [[nodiscard]] const odometry::PlanarTwistFilter &twist_filter() const;
 
   private:
     struct State;

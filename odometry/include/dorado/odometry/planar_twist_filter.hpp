@@ -12,11 +12,20 @@
 /// rear axle has no lateral velocity: with the vehicle's velocity prior on, every update also
 /// takes v_y = 0 with that spread, which makes even one radar observe the yaw rate (the Ackermann
 /// model in the plane).
+///
+/// Mounts calibrated online (calibrate_mount_yaw): the state also holds each radar's yaw offset
+/// delta_k from its published mount (true mount R_k R(delta_k)), so the radar measures
+///   v_k = R(delta_k)^T R_k^T [1 0 -s_ky; 0 1 s_kx] (v_x, v_y, omega_z)     (an EKF, linearised
+/// at the current delta_k). A radar whose yaw is off by delta sees the vehicle's velocity turned
+/// by delta: against the other radars and the rear axle's zero lateral velocity that is a
+/// contradiction the filter resolves into delta_k (observable once the vehicle moves; a common
+/// offset of every radar only through the lateral prior, i.e. from straight driving).
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "dorado/core/extrinsics.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
@@ -37,6 +46,11 @@ struct PlanarTwistFilterConfig {
     /// After this many gated updates in a row the filter restarts from the next radar's scan (it
     /// lost the vehicle, not the radars the vehicle).
     int max_gated_in_a_row = 10;
+    /// Estimate each radar's mount yaw offset (above), starting at 0 with this spread [deg], and
+    /// letting it walk this much per sqrt(hour) [deg] (0: a constant mount).
+    bool calibrate_mount_yaw = true;
+    double mount_yaw_sigma_deg = 1.0;
+    double mount_yaw_walk_deg_per_sqrt_h = 0.0;
 
     /// Throws std::invalid_argument naming the first bad field.
     void Validate() const;
@@ -54,16 +68,25 @@ enum class TwistUpdate {
 
 class PlanarTwistFilter {
   public:
-    /// Throws std::invalid_argument on a bad config.
-    PlanarTwistFilter(PlanarTwistFilterConfig config, VehicleVelocityPrior velocity_prior);
+    /// T_base_radars: every radar's published mount (index = Update's radar). Throws
+    /// std::invalid_argument on a bad config or no radar.
+    PlanarTwistFilter(PlanarTwistFilterConfig config, VehicleVelocityPrior velocity_prior,
+                      std::vector<Eigen::Isometry3d> T_base_radars);
 
-    /// Predicts to @p stamp_ns and updates with radar @p T_base_radar's ego-velocity there.
-    TwistUpdate Update(int64_t stamp_ns, const Eigen::Isometry3d &T_base_radar,
-                       const EgoVelocityResult &ego);
+    /// Predicts to @p stamp_ns and updates with radar @p radar's ego-velocity there. Throws
+    /// std::out_of_range for a radar index beyond the mounts.
+    TwistUpdate Update(int64_t stamp_ns, std::size_t radar, const EgoVelocityResult &ego);
 
     /// (v_x, v_y, omega_z) of the base origin in the base frame, and its covariance.
-    [[nodiscard]] const Eigen::Vector3d &twist() const { return x_; }
-    [[nodiscard]] const Eigen::Matrix3d &covariance() const { return P_; }
+    [[nodiscard]] Eigen::Vector3d twist() const { return x_.head<3>(); }
+    [[nodiscard]] Eigen::Matrix3d covariance() const { return P_.topLeftCorner<3, 3>(); }
+    /// Radar @p radar's mount yaw offset from the published one [rad] and its 1-sigma (0 and 0
+    /// without calibrate_mount_yaw).
+    [[nodiscard]] double mount_yaw_offset_rad(std::size_t radar) const;
+    [[nodiscard]] double mount_yaw_sigma_rad(std::size_t radar) const;
+    /// The mount as calibrated: the published one turned by its yaw offset.
+    [[nodiscard]] Eigen::Isometry3d T_base_radar(std::size_t radar) const;
+    [[nodiscard]] std::size_t radars() const { return T_base_radars_.size(); }
     /// The stamp of the newest update; empty before the first.
     [[nodiscard]] std::optional<int64_t> stamp_ns() const { return stamp_ns_; }
     /// The chi^2 of the newest update's innovation (2 dof).
@@ -71,11 +94,13 @@ class PlanarTwistFilter {
 
   private:
     void Restart();
+    [[nodiscard]] Eigen::Index OffsetIndex(std::size_t radar) const;
 
     PlanarTwistFilterConfig config_;
     VehicleVelocityPrior velocity_prior_;
-    Eigen::Vector3d x_ = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d P_;
+    std::vector<Eigen::Isometry3d> T_base_radars_;
+    Eigen::VectorXd x_;  ///< (v_x, v_y, omega_z, then each radar's yaw offset when calibrated)
+    Eigen::MatrixXd P_;
     std::optional<int64_t> stamp_ns_;
     int gated_in_a_row_ = 0;
     double last_nis_ = 0.0;
