@@ -57,7 +57,9 @@ frontend::FrontEndConfig FrontEndConfigOf(const MapOptions &opt,
 }
 
 void RunMap(const MapOptions &opt) {
-    const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset);
+    const io::DatasetConfig dataset =
+        opt.radars == "all" ? io::ResolveDataset(opt.dataset)
+                            : SelectRadar(io::ResolveDataset(opt.dataset), opt.radars);
     const dorado::config::MapCommandConfig map_config =
         opt.config.empty() ? dorado::config::MapCommandConfig{}
                            : dorado::config::LoadMapConfig(opt.config);
@@ -71,7 +73,7 @@ void RunMap(const MapOptions &opt) {
         if (opt.masks)
             throw io::ConfigError(
                 "--masks: per-point masks are written for one radar; with the "
-                "dataset's radars: list add --radars first");
+                "dataset's radars: list add --radars first (or a radar's name)");
         if (config.mapper.refinement == mapping::Refinement::kWindow)
             throw io::ConfigError(
                 "refinement window: a 6-DoF smoother; several radars map in the "
@@ -146,8 +148,8 @@ void RegisterMapCommand(CLI::App &app) {
                     "odometry`)");
     cmd->add_option("--radars", opt->radars,
                     "with the dataset's radars: list: all (default: every radar into one map, "
-                    "each at its own time) or first (the folder: + extrinsics: radar alone)")
-        ->check(CLI::IsMember({"all", "first"}));
+                    "each at its own time), first (the folder: + extrinsics: radar alone) or a "
+                    "radar's name (that radar alone)");
     cmd->add_flag("--fixed-mounts", opt->fixed_mounts,
                   "with several radars: keep the published mounts (default: each radar's mount "
                   "yaw is estimated while running, reported in summary.json and mounts.yaml)");

@@ -23,7 +23,7 @@ namespace dorado::apps {
 namespace {
 
 struct OdometryOptions {
-    std::string dataset, out, config, method, rotation;
+    std::string dataset, out, config, method, rotation, radars;
     bool masks = false;
 };
 
@@ -116,7 +116,7 @@ std::string CauseList(const std::map<odometry::FallbackCause, int> &causes) {
 }
 
 void RunOdometry(const OdometryOptions &opt) {
-    const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset);
+    const io::DatasetConfig dataset = SelectRadar(io::ResolveDataset(opt.dataset), opt.radars);
     const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "odometry");
     frontend::FrontEndConfig config;
     config.run_mapper = false;
@@ -234,6 +234,9 @@ void RegisterOdometryCommand(CLI::App &app) {
                     "doppler (kinematic model, default), imu (gyro rotation, no translation) or "
                     "imu+doppler (gyro rotation + Doppler translation)");
     cmd->add_option("--rotation", opt->rotation, "replaced by --method")->group("");
+    cmd->add_option("--radars", opt->radars,
+                    "with the dataset's radars: list: first (default: the folder: + extrinsics: "
+                    "radar) or a radar's name; every radar's twist: dorado twist");
     cmd->add_flag("--masks", opt->masks,
                   "write DIR/masks/NNNNNN.txt: per-point static/dynamic labels");
     cmd->callback([opt] { RunOdometry(*opt); });

@@ -89,12 +89,25 @@ nlohmann::json ReportRadarsUsed(const io::DatasetConfig &dataset, const std::str
         names += (names.empty() ? "" : ", ") + radar.name;
     std::fprintf(stderr,
                  "%s: warning: %s: key 'radars' lists %zu radars (%s); dorado %s reads only the "
-                 "`folder:` + `extrinsics:` radar (%s): the others are not used (their joint "
-                 "twist: dorado twist)\n",
+                 "`folder:` + `extrinsics:` radar (%s): the others are not used (--radars NAME "
+                 "picks another; every radar: dorado map --radars all, dorado twist)\n",
                  command.c_str(), DatasetFile(dataset, arg).c_str(), dataset.radars.size(),
                  names.c_str(), command.c_str(), dataset.folder.scans_dir.c_str());
     return {{"radars_listed", dataset.radars.size()},
             {"radars_used", nlohmann::json::array({dataset.folder.scans_dir})}};
+}
+
+io::DatasetConfig SelectRadar(const io::DatasetConfig &dataset, const std::string &choice) {
+    if (choice.empty() || choice == "first") return dataset;
+    std::string names;
+    for (std::size_t k = 0; k < dataset.radars.size(); ++k) {
+        if (dataset.radars[k].name == choice) return io::ForRadar(dataset, k);
+        names += (names.empty() ? "" : ", ") + dataset.radars[k].name;
+    }
+    throw io::ConfigError("--radars " + choice + ": " +
+                          (names.empty()
+                               ? "the dataset has no radars: list"
+                               : "no such radar in the dataset's radars: list (" + names + ")"));
 }
 
 void WriteMaskFile(const std::string &out_dir, std::size_t scan_index, int64_t stamp_ns,

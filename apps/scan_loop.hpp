@@ -64,6 +64,11 @@ class ScanLoop {
 /// record of it ({"radars_listed": N, "radars_used": [...]}); null for a one-radar dataset.
 nlohmann::json ReportRadarsUsed(const io::DatasetConfig &dataset, const std::string &arg,
                                 const std::string &command);
+/// The description for `--radars CHOICE` on a dataset with a `radars:` list: "first" (or "") the
+/// `folder:` + `extrinsics:` radar as described; a radar's name that radar alone (io::ForRadar).
+/// Throws io::ConfigError naming the option and the radars' names for an unknown name.
+[[nodiscard]] io::DatasetConfig SelectRadar(const io::DatasetConfig &dataset,
+                                            const std::string &choice);
 /// Writes out_dir/masks/NNNNNN.txt (NNNNNN = scan_index): a header naming the stamp and `legend`
 /// (what each label means), then one label per point in input order.
 void WriteMaskFile(const std::string &out_dir, std::size_t scan_index, int64_t stamp_ns,
