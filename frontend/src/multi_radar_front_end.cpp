@@ -228,6 +228,9 @@ mapping::MotionPrior MultiRadarFrontEnd::State::BuildPrior(int64_t stamp_ns, dou
                                                     stamp_ns, T_base_imu, dt_s, noise);
                 if (!built) why_not = PriorSubstitution::kNoImuSamples;
             }
+            if (built && noise.doppler_with_constvel && has_two && dt_s <= 1.5 * last_dt_s)
+                built = mapping::FusePriors(*built, mapping::PriorConstantVelocity(
+                                                        T_prev2, T_prev, last_dt_s, dt_s, noise));
             break;
     }
     if (!built) {

@@ -266,6 +266,11 @@ mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometrySt
                                                         extrinsics.T_base_imu, dt_s, noise);
                 if (!built) why_not = PriorSubstitution::kNoImuSamples;
             }
+            // Not after a gap (the last motion is stale, as for the trapezoid) nor on a
+            // stationary scan (the zero twist is exact).
+            if (built && noise.doppler_with_constvel && has_two && dt_s <= 1.5 * last_dt_s &&
+                !step.zero_velocity_update)
+                built = mapping::FusePriors(*built, constvel());
             break;
     }
     if (!built) {

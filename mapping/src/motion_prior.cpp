@@ -180,6 +180,16 @@ MotionPrior PriorFromDoppler(const Eigen::Isometry3d &T_world_base_prev, const B
             PriorKind::kDoppler};
 }
 
+MotionPrior FusePriors(const MotionPrior &a, const MotionPrior &b) {
+    const Vector6d xi = LogSE3(a.T_world_base.inverse() * b.T_world_base);
+    const Matrix6d info_a = a.covariance.ldlt().solve(Matrix6d::Identity());
+    const Matrix6d info_b = b.covariance.ldlt().solve(Matrix6d::Identity());
+    Matrix6d covariance = (info_a + info_b).ldlt().solve(Matrix6d::Identity());
+    covariance = 0.5 * (covariance + covariance.transpose());
+    const Vector6d delta = covariance * info_b * xi;
+    return {a.T_world_base * ExpSE3(delta), covariance, a.kind};
+}
+
 std::optional<MotionPrior> PriorFromImuAndDoppler(const Eigen::Isometry3d &T_world_base_prev,
                                                   const BaseTwist &twist,
                                                   const std::vector<ImuSample> &samples,

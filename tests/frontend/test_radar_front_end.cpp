@@ -70,6 +70,28 @@ double TranslationGap(const Eigen::Isometry3d &a, const Eigen::Isometry3d &b) {
     return (a.translation() - b.translation()).norm();
 }
 
+// A scan with few points gives a Doppler twist with a wide covariance: the doppler prior then
+// leans on the constvel prediction of the last two poses (prior.doppler_with_constvel), and
+// its rotation is as certain as that prediction, not as the few points.
+TEST(RadarFrontEnd, ADopplerPriorFromFewPointsLeansOnTheLastMotion) {
+    std::vector<RadarScan> scans = DriveScans(8);
+    Eigen::Array<bool, Eigen::Dynamic, 1> keep =
+        Eigen::Array<bool, Eigen::Dynamic, 1>::Constant(scans[6].size(), false);
+    for (Eigen::Index i = 0; i < keep.size(); i += keep.size() / 14) keep(i) = true;
+    scans[6] = SelectPoints(scans[6], keep);
+    double rotation_variance[2] = {0.0, 0.0};
+    for (const bool fuse : {false, true}) {
+        FrontEndConfig config;
+        config.prior_noise.doppler_with_constvel = fuse;
+        const std::vector<FrontEndResult> results = RunFrontEnd(config, scans);
+        ASSERT_TRUE(results[6].odometry.ego.valid()) << results[6].odometry.ego.failure_detail;
+        EXPECT_EQ(results[6].prior_used, PriorKind::kDoppler);
+        rotation_variance[fuse] = results[6].prior.covariance.bottomRightCorner<3, 3>().trace();
+    }
+    EXPECT_LT(rotation_variance[1], 0.5 * rotation_variance[0])
+        << rotation_variance[1] << " vs " << rotation_variance[0];
+}
+
 TEST(RadarFrontEnd, DopplerPriorFollowsTheAngularRatePriorSetting) {
     const auto scans = DriveScans(8);
     const odometry::KinematicModel model(Mount(), Geometry());
@@ -229,6 +251,7 @@ TEST(RadarFrontEnd, DopplerPriorHoldsStillOnStationaryScans) {
         FrontEndConfig config;
         config.odometry.zero_velocity_update = zero_velocity_update;
         config.prior_noise.doppler_integration = mapping::TwistIntegration::kEndpoint;
+        config.prior_noise.doppler_with_constvel = false;  // the twist alone, integrated
         const auto results = RunFrontEnd(config, scans);
         for (std::size_t k = 1; k < results.size(); ++k) {
             const FrontEndResult &r = results[k];

@@ -134,6 +134,29 @@ TEST(MotionPrior, ImuAndDopplerTakesRotationFromTheGyroAndTranslationFromDoppler
     EXPECT_LT(PoseError(prior->T_world_base, ExpSE3(Xi(0.6, 0, 0, 0, 0, 0.04))), 1e-12);
 }
 
+// Two Gaussian predictions of x: N(0, 1) and N(1, 3) fuse to N(1/4, 3/4) (the product of the
+// densities); the other axes, equal in both, keep their mean and halve their variance.
+TEST(MotionPrior, FusedPriorsAreTheProductOfTheTwoGaussians) {
+    MotionPrior a, b;
+    a.covariance = Matrix6d::Identity();
+    b.covariance = Matrix6d::Identity();
+    b.covariance(0, 0) = 3.0;
+    b.T_world_base.translation().x() = 1.0;
+    a.kind = PriorKind::kDoppler;
+    b.kind = PriorKind::kConstVel;
+    const MotionPrior fused = FusePriors(a, b);
+    EXPECT_NEAR(fused.T_world_base.translation().x(), 0.25, 1e-12);
+    EXPECT_NEAR(fused.T_world_base.translation().tail<2>().norm(), 0.0, 1e-12);
+    EXPECT_NEAR(fused.covariance(0, 0), 0.75, 1e-12);
+    EXPECT_NEAR(fused.covariance(1, 1), 0.5, 1e-12);
+    EXPECT_NEAR(fused.covariance(5, 5), 0.5, 1e-12);
+    EXPECT_EQ(fused.kind, PriorKind::kDoppler);
+    // A prior with no information (huge covariance) leaves the other as it was.
+    b.covariance = Matrix6d::Identity() * 1e12;
+    b.T_world_base = ExpSE3((Vector6d() << 0.3, 0.0, 0.0, 0.0, 0.0, 0.2).finished());
+    EXPECT_LT(LogSE3(FusePriors(a, b).T_world_base).norm(), 1e-9);
+}
+
 TEST(MotionPrior, MahalanobisOfTheMeanIsZeroAndScalesWithSigma) {
     MotionPrior prior;
     prior.T_world_base = ExpSE3(Xi(1, 2, 3, 0.1, 0.2, 0.3));

@@ -170,6 +170,8 @@ void VisitFields(PriorNoiseConfig &c, Visitor &&v) {
     v("doppler_integration", c.doppler_integration, TwistIntegrationChoices(),
       "`doppler`, `imu+doppler`: the interval's twist from the two scans' (trapezoid) or "
       "this scan's (endpoint)");
+    v("doppler_with_constvel", c.doppler_with_constvel,
+      "`doppler`, `imu+doppler`: fused with the constvel prediction from the last two poses");
 }
 
 }  // namespace dorado::mapping

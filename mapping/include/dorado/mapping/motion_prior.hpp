@@ -102,6 +102,11 @@ struct PriorNoiseConfig {
     /// `doppler`, `imu+doppler`: the interval's twist (TwistIntegration). The floors above are
     /// added after it (an unmodelled bias does not average out between two scans).
     TwistIntegration doppler_integration = TwistIntegration::kTrapezoid;
+    /// `doppler`, `imu+doppler`: fuse the Doppler prior with the constvel prediction from the
+    /// last two poses (FusePriors), so that a twist from a few points (its covariance wide) leans
+    /// on the vehicle's last motion instead of being taken whole when the registration falls back.
+    /// Not after a gap (an interval over 1.5 times the previous one) nor on a stationary scan.
+    bool doppler_with_constvel = true;
 
     /// Throws std::invalid_argument naming the first bad key.
     void Validate() const;
@@ -140,6 +145,11 @@ struct PriorNoiseConfig {
     const Eigen::Isometry3d &T_world_base_prev, const BaseTwist &twist,
     const std::vector<ImuSample> &samples, int64_t t0_ns, int64_t t1_ns,
     const Eigen::Isometry3d &T_base_imu, double dt_s, const PriorNoiseConfig &noise);
+
+/// Two independent predictions of the same pose fused by information: the mean moved from a's
+/// towards b's (in a's tangent space) by C C_b^-1 LogSE3(T_a^-1 T_b), with covariance C = (C_a^-1 +
+/// C_b^-1)^-1; a's kind.
+[[nodiscard]] MotionPrior FusePriors(const MotionPrior &a, const MotionPrior &b);
 
 /// Squared Mahalanobis distance of T_world_base from the prior: xi^T C^-1 xi with
 /// xi = LogSE3(prior.T_world_base^-1 * T_world_base).
