@@ -100,8 +100,9 @@ TEST(RadarFrontEnd, DopplerPriorFollowsTheAngularRatePriorSetting) {
     for (const bool angular_rate_prior : {false, true}) {
         FrontEndConfig config;
         config.odometry.angular_rate_prior = angular_rate_prior;
-        // This scan's twist alone (the trapezoid's is checked below).
+        // This scan's twist alone (the trapezoid's is checked below), not fused with constvel.
         config.prior_noise.doppler_integration = mapping::TwistIntegration::kEndpoint;
+        config.prior_noise.doppler_with_constvel = false;
         const auto results = RunFrontEnd(config, scans);
         for (std::size_t k = 1; k < results.size(); ++k) {
             const FrontEndResult &r = results[k];
@@ -139,7 +140,8 @@ TEST(RadarFrontEnd, DopplerPriorFollowsTheAngularRatePriorSetting) {
 TEST(RadarFrontEnd, DopplerPriorHoldsTheMeanOfTheTwoScansTwists) {
     auto scans = DriveScans(8);
     for (std::size_t k = 6; k < scans.size(); ++k) scans[k].stamp_ns += 300000000;  // 0.3 s gap
-    const FrontEndConfig config;
+    FrontEndConfig config;
+    config.prior_noise.doppler_with_constvel = false;  // the twists alone
     ASSERT_EQ(config.prior_noise.doppler_integration, mapping::TwistIntegration::kTrapezoid);
     const auto results = RunFrontEnd(config, scans);
     for (std::size_t k = 1; k < results.size(); ++k) {
