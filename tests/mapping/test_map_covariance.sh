@@ -8,16 +8,13 @@
 # interval's covariance is its share of a sum over many intervals, (C_prev + C) / 2, twice the one frame's,
 # because consecutive intervals share a scan; 0.94 / 0.79 with it). docs/covariance.md.
 # Mutations, each of which must fail on EACH sequence:
+#   --fused-covariance prior         the mapper reports the prior's covariance for its fused pose (it
+#                                    ignores the registration): fails in rotation, which the map tightens;
 #   --fused-covariance registration  it reports the registration's covariance alone (it ignores the
 #                                    prior): fails in translation, where the registration is far wider;
 #   --scale-covariance 4 / 0.25      over- / under-confident by 4: fails by the band's width (a band
 #                                    narrower than 16:1 cannot hold both x and 4x or x/4), so these two
 #                                    check the gate's width, not the data.
-# Not a mutation any more: --fused-covariance prior. The doppler prior is fused with the constvel
-# prediction (prior.doppler_with_constvel), and its rotation covariance is then honest (mean NEES of
-# the prior ~4 of 6 on seq08) and within a factor 2 of the fused pose's (the map halves the
-# rotation variance per frame: 0.38 -> 0.27 deg rms): a band of 4:1 cannot tell the two apart. It
-# failed the gate only while the Doppler-only prior claimed ~35x the rotation variance it had.
 # Usage: test_map_covariance.sh DORADO NEES_SCRIPT
 set -euo pipefail
 DORADO=$1 NEES=$2
@@ -33,7 +30,7 @@ for spec in seq08:8 seq08:108; do
   run=(/usr/bin/python3 "$NEES" --truth "$dir/sim_$seq$seed/true_trajectory.tum" --run "$dir/map_$seq$seed"
        --name "${seq}_s${seed}_20s" --check-block-nees 0.6 6 1.5 6)
   "${run[@]}"
-  for mutation in "--fused-covariance registration" \
+  for mutation in "--fused-covariance prior" "--fused-covariance registration" \
                   "--scale-covariance 4" "--scale-covariance 0.25"; do
     # shellcheck disable=SC2086
     if "${run[@]}" $mutation >/dev/null 2>&1; then
