@@ -9,9 +9,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "bench_fields.hpp"
 #include "dorado/config/map_config.hpp"
 #include "dorado/config/odometry_config.hpp"
-#include "dorado/io/yaml_section.hpp"
+#include "dorado/io/field_yaml.hpp"
 
 namespace dorado::apps {
 
@@ -19,67 +20,32 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string Resolve(const std::string &base_dir, const std::string &path) {
-    if (path.empty() || fs::path(path).is_absolute()) return path;
-    return (fs::path(base_dir) / path).lexically_normal().string();
-}
-
-// A list of enum names read through the library's parser ("unknown ... expected one of").
-template <typename E, typename Parse>
-std::vector<E> ReadEnumList(io::YamlSection &root, const std::string &key,
-                            const std::vector<E> &fallback, Parse parse) {
-    if (!root.Has(key)) return fallback;
-    std::vector<E> values;
-    for (const std::string &name : root.Get<std::vector<std::string>>(key, {})) {
-        try {
-            values.push_back(parse(name));
-        } catch (const std::invalid_argument &e) {
-            root.Fail(key, "unknown method '" + name + "': " + e.what());
-        }
-    }
-    return values;
-}
-
+// One entry of `sequences:`, by BenchSequence's field list.
 BenchSequence ParseSequence(const YAML::Node &node, std::size_t index, const std::string &base_dir,
                             const std::string &origin) {
-    io::YamlSection section(node, origin, "sequences[" + std::to_string(index) + "]");
+    io::FieldReader in(io::YamlSection(node, origin, "sequences[" + std::to_string(index) + "]"),
+                       base_dir);
     BenchSequence s;
-    s.name = section.Get<std::string>("name", "");
-    if (s.name.empty() || s.name.find_first_of("/\\ @") != std::string::npos) {
-        section.Fail("name", "must be a non-empty name without '/', '@' or spaces");
-    }
+    VisitFields(s, in);
     // A misspelled key is reported before the checks that it would make fail.
-    for (const char *key : {"simulate", "dataset", "ground_truth", "odometry", "map_priors"})
-        (void)section.Has(key);
-    section.RejectUnknownKeys();
-    if (section.Has("odometry"))
-        s.odometry_methods =
-            ReadEnumList(section, "odometry", std::vector<odometry::OdometryMethod>{},
-                         odometry::ParseOdometryMethod);
-    if (section.Has("map_priors"))
-        s.map_priors = ReadEnumList(section, "map_priors", std::vector<mapping::PriorKind>{},
-                                    mapping::ParsePriorKind);
-    if (section.Has("simulate")) {
-        io::YamlSection sim = section.Child("simulate");
-        s.simulate_sequence = sim.Get<std::string>("sequence", s.name);
-        s.seed = sim.Get<int64_t>("seed", 1);
-        s.duration_s = sim.Get<double>("duration_s", 0.0);
-        if (!(s.duration_s >= 0.0) || !std::isfinite(s.duration_s)) {
-            sim.Fail("duration_s", "must be >= 0 (0: the simulator's default)");
-        }
-        sim.RejectUnknownKeys();
+    in.RejectUnknownKeys();
+    if (s.name.empty() || s.name.find_first_of("/\\ @") != std::string::npos)
+        in.Fail("name", "must be a non-empty name without '/', '@' or spaces");
+    if (in.Has("simulate")) {
+        if (!(s.duration_s >= 0.0) || !std::isfinite(s.duration_s))
+            in.Fail("simulate.duration_s", "must be >= 0 (0: the simulator's default)");
+        if (s.simulate_sequence.empty()) s.simulate_sequence = s.name;
         // A sequence file given relative to the config.
         if (s.simulate_sequence.size() > 5 &&
-            s.simulate_sequence.substr(s.simulate_sequence.size() - 5) == ".yaml") {
-            s.simulate_sequence = Resolve(base_dir, s.simulate_sequence);
-        }
+            s.simulate_sequence.substr(s.simulate_sequence.size() - 5) == ".yaml")
+            s.simulate_sequence = io::ResolvePath(s.simulate_sequence, base_dir);
+        s.dataset.clear();  // simulated: the simulation's dataset.yaml
+        s.ground_truth.clear();
     } else {
-        s.dataset = Resolve(base_dir, section.Get<std::string>("dataset", ""));
-        s.ground_truth = Resolve(base_dir, section.Get<std::string>("ground_truth", ""));
-        if (s.dataset.empty() || s.ground_truth.empty()) {
-            section.Fail("dataset",
-                         "a sequence needs `simulate:` or both `dataset:` and `ground_truth:`");
-        }
+        s.simulate_sequence.clear();
+        if (s.dataset.empty() || s.ground_truth.empty())
+            in.Fail("dataset",
+                    "a sequence needs `simulate:` or both `dataset:` and `ground_truth:`");
     }
     return s;
 }
@@ -133,7 +99,7 @@ BenchConfig ParseBenchConfig(const std::string &yaml_text, const std::string &ba
         throw std::runtime_error(origin + ": not valid YAML: " + e.what());
     }
     if (!node.IsMap()) throw std::runtime_error(origin + ": expected a YAML mapping");
-    io::YamlSection root(node, origin);
+    io::FieldReader root(io::YamlSection(node, origin), base_dir);
     BenchConfig config;
     if (!root.Has("sequences") || !node["sequences"].IsSequence() ||
         node["sequences"].size() == 0) {
@@ -147,32 +113,31 @@ BenchConfig ParseBenchConfig(const std::string &yaml_text, const std::string &ba
                       "repeats '" + config.sequences.back().name + "'");
         }
     }
-    config.odometry_methods =
-        ReadEnumList(root, "odometry", config.odometry_methods, odometry::ParseOdometryMethod);
-    config.map_priors =
-        ReadEnumList(root, "map_priors", config.map_priors, mapping::ParsePriorKind);
-    config.odometry_config = Resolve(base_dir, root.Get<std::string>("odometry_config", ""));
-    config.map_config = Resolve(base_dir, root.Get<std::string>("map_config", ""));
-    io::YamlSection grid = root.Child("grid");
+    if (root.Has("jobs") && root.Section("").Get<std::int64_t>("jobs", 0) < 0)
+        root.Fail("jobs", "must be >= 0 (0: the number of cores)");
+    VisitFields(config, root);
+    io::YamlSection &grid = root.Section("grid");
     if (root.Has("grid")) {
         const YAML::Node grid_node = node["grid"];
         config.odometry_grid = ParseGrid(grid, grid_node["odometry"], "odometry");
         config.map_grid = ParseGrid(grid, grid_node["map"], "map");
     }
-    grid.RejectUnknownKeys();
-    const int jobs = root.Get<int>("jobs", 0);
-    if (jobs < 0) root.Fail("jobs", "must be >= 0 (0: the number of cores)");
-    config.jobs = static_cast<std::size_t>(jobs);
-    root.ReadParsed("association", config.association, eval::ParseAssociationMethod);
-    config.association_max_gap_s =
-        root.GetPositive("association_max_gap_s", config.association_max_gap_s);
-    config.t_max_diff_s = root.GetPositive("t_max_diff_s", config.t_max_diff_s);
-    config.rpe_frame_delta = root.Get<int>("rpe_frame_delta", config.rpe_frame_delta);
-    if (config.rpe_frame_delta < 1) root.Fail("rpe_frame_delta", "must be >= 1");
-    config.rpe_second_delta_s = root.GetPositive("rpe_second_delta_s", config.rpe_second_delta_s);
-    root.ReadParsed("reference", config.reference, ParseBenchReference);
     root.RejectUnknownKeys();
+    for (const auto &[key, value] :
+         {std::pair<const char *, double>{"association_max_gap_s", config.association_max_gap_s},
+          {"t_max_diff_s", config.t_max_diff_s},
+          {"rpe_second_delta_s", config.rpe_second_delta_s}}) {
+        if (!(std::isfinite(value) && value > 0.0))
+            root.Fail(key, "must be a positive number, got " + std::to_string(value));
+    }
+    if (config.rpe_frame_delta < 1) root.Fail("rpe_frame_delta", "must be >= 1");
     return config;
+}
+
+std::vector<io::FieldRow> BenchConfigFields() {
+    auto rows = io::ListFields(BenchConfig{});
+    for (const auto &row : io::ListFields(BenchSequence{}, "sequences[].")) rows.push_back(row);
+    return rows;
 }
 
 BenchConfig LoadBenchConfig(const std::string &path) {

@@ -15,6 +15,10 @@
 #include "dorado/mapping/motion_prior.hpp"
 #include "dorado/odometry/doppler_odometry.hpp"
 
+namespace dorado::io {
+struct FieldRow;  // io/field_yaml.hpp
+}  // namespace dorado::io
+
 namespace dorado::apps {
 
 /// One sequence: either simulated by `dorado simulate` into the output directory, or an existing
@@ -77,6 +81,10 @@ struct BenchConfig {
 /// Same, from YAML text; `base_dir` resolves relative paths, `origin` names the source in errors.
 [[nodiscard]] BenchConfig ParseBenchConfig(const std::string &yaml_text,
                                            const std::string &base_dir, const std::string &origin);
+
+/// Every key of the bench file with its built-in default and doc (`sequences[].` an entry's;
+/// `grid:` not: config keys to lists of values).
+[[nodiscard]] std::vector<io::FieldRow> BenchConfigFields();
 
 enum class RunKind { kSimulate, kOdometry, kMap };
 

@@ -1,7 +1,10 @@
 #include "dorado/config/config_keys.hpp"
 
+#include "bench_plan.hpp"
 #include "dorado/config/map_config.hpp"
 #include "dorado/config/odometry_config.hpp"
+#include "dorado/io/dataset_config.hpp"
+#include "dorado/sim/sequence_config.hpp"
 
 namespace dorado::config {
 
@@ -16,7 +19,16 @@ std::string ConfigKeysMarkdown() {
            "--odometry-config`)\n\n" +
            MarkdownTable(OdometryConfigFields()) +
            "\n## configs/mapper.yaml (`dorado map --config`)\n\n" +
-           MarkdownTable(MapConfigFields());
+           MarkdownTable(MapConfigFields()) +
+           "\n## Dataset descriptions (configs/hugin.yaml, configs/nuscenes.yaml, ...: the DATASET "
+           "argument)\n\nPaths are relative to the file; a reader refuses the sections of the "
+           "other readers. See docs/datasets.md.\n\n" +
+           MarkdownTable(io::DatasetConfigFields()) +
+           "\n## Simulated sequences (configs/sequences/*.yaml: `dorado simulate --sequence`)\n\n" +
+           MarkdownTable(sim::SequenceConfigFields()) +
+           "\n## Benchmarks (configs/benchmark_*.yaml: `dorado bench`)\n\n`grid:` maps "
+           "`odometry:` and `map:` keys of the tables above to lists of values.\n\n" +
+           MarkdownTable(apps::BenchConfigFields());
 }
 
 }  // namespace dorado::config

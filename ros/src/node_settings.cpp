@@ -9,6 +9,7 @@
 #include "dorado/config/map_config.hpp"
 #include "dorado/config/odometry_config.hpp"
 #include "dorado/core/paper_mount.hpp"
+#include "node_fields.hpp"
 #include "paper_estimator.hpp"
 
 namespace dorado::ros_node {
@@ -63,6 +64,27 @@ class Params {
     const ros::NodeHandle &private_;
 };
 
+// Reads the node's field list (node_fields.hpp): each parameter that is set into its member.
+struct ParamFields {
+    const Params &params;
+
+    template <typename T>
+    void operator()(const char *name, T &member, const char * /*doc*/) const {
+        params.Get(name, member);
+    }
+    template <typename E>
+    void operator()(const char *name, E &member, const Choices<E> &names,
+                    const char * /*doc*/) const {
+        std::string text;
+        if (!params.Get(name, text)) return;
+        try {
+            member = ParseChoice(names, text, name);
+        } catch (const std::invalid_argument &e) {
+            params.Fail(name, e.what());
+        }
+    }
+};
+
 Eigen::Quaterniond QuaternionXyzw(const std::vector<double> &v, std::size_t first) {
     return Eigen::Quaterniond(v[first + 3], v[first], v[first + 1], v[first + 2]);
 }
@@ -95,19 +117,9 @@ void ReadMount(const Params &params, bool has_config, NodeSettings &s) {
     s.T_base_child = mount.T_base_baselink;
 }
 
-// The paper's estimator keys on dorado's ego-velocity settings (paper_estimator.hpp).
-void ReadEstimator(const Params &params, odometry::EgoVelocityConfig &ego) {
-    params.Get("min_points", ego.min_points);
-    params.Get("use_power", ego.use_power);
-    std::string mode;
-    double value = 0.0;
-    const bool has_mode = params.Get("threshold_mode", mode);
-    const bool has_value = params.Get("threshold_value", value);
-    ApplyPaperThreshold(has_mode ? std::optional<std::string>(mode) : std::nullopt,
-                        has_value ? std::optional<double>(value) : std::nullopt, ego);
-}
-
-void ReadFrontEnd(const Params &params, NodeSettings &s) {
+// The files the parameters override: odometry_config, mapper_config (the mapper off unless
+// `mapper`).
+void ReadFrontEndFiles(const Params &params, NodeSettings &s) {
     std::string path;
     if (params.Get("odometry_config", path) && !path.empty())
         s.front_end.odometry = config::LoadOdometryConfig(path);
@@ -117,27 +129,16 @@ void ReadFrontEnd(const Params &params, NodeSettings &s) {
     s.front_end.mapper = map_config.mapper;
     s.front_end.prior_noise = map_config.prior;
     s.front_end.run_mapper = false;
-    params.Get("mapper", s.front_end.run_mapper);
-    std::string text;
-    if (params.Get("prior", text)) s.front_end.prior = config::ParsePriorKindKey(text, "prior");
-    if (params.Get("method", text))
-        s.front_end.odometry.method = config::ParseOdometryMethodKey(text, "method");
-    params.Get("use_mask", s.front_end.use_mask);
-    ReadEstimator(params, s.front_end.odometry.ego_velocity);
-    s.needs_imu = s.front_end.run_mapper ? mapping::NeedsImu(s.front_end.prior)
-                                         : odometry::NeedsImu(s.front_end.odometry.method);
 }
 
-void ReadLive(const Params &params, NodeSettings &s) {
-    params.Get("queue_size", s.queue_size);
-    if (s.queue_size < 1) params.Fail("queue_size", "must be >= 1");
-    params.Get("max_gap_s", s.gaps.max_gap_s);
-    if (!(s.gaps.max_gap_s > 0.0)) params.Fail("max_gap_s", "must be > 0");
-    params.Get("imu_wait_s", s.imu_wait_s);
-    params.Get("local_map_period_s", s.local_map_period_s);
-    s.local_map_period_s = std::max(1.0, s.local_map_period_s);
-    params.Get("report_period_s", s.report_period_s);
-    params.Get("summary_file", s.summary_file);
+// The paper's estimator keys on dorado's ego-velocity settings (paper_estimator.hpp).
+void ReadThreshold(const Params &params, odometry::EgoVelocityConfig &ego) {
+    std::string mode;
+    double value = 0.0;
+    const bool has_mode = params.Get("threshold_mode", mode);
+    const bool has_value = params.Get("threshold_value", value);
+    ApplyPaperThreshold(has_mode ? std::optional<std::string>(mode) : std::nullopt,
+                        has_value ? std::optional<double>(value) : std::nullopt, ego);
 }
 
 }  // namespace
@@ -150,23 +151,21 @@ NodeSettings ReadNodeSettings(const ros::NodeHandle &node, const ros::NodeHandle
     if (has_config) s.dataset = io::LoadDatasetConfig(config_path);
     s.description = has_config ? "dataset " + config_path : "the paper's Hugin defaults";
     ReadMount(params, has_config, s);
-    ReadFrontEnd(params, s);
-    s.front_end.odometry.ego_velocity.sensor = s.dataset.radar;  // the radar: noise, ambiguity
-    ReadLive(params, s);
-
+    ReadFrontEndFiles(params, s);
     s.input_topic = s.dataset.rosbag.radar_topic;
-    params.Get("input_topic", s.input_topic);
     s.imu_topic = s.dataset.rosbag.imu_topic;
-    params.Get("imu_topic", s.imu_topic);
+    VisitFields(s, ParamFields{params});
+    ReadThreshold(params, s.front_end.odometry.ego_velocity);
+    s.front_end.odometry.ego_velocity.sensor = s.dataset.radar;  // the radar: noise, ambiguity
+    s.needs_imu = s.front_end.run_mapper ? mapping::NeedsImu(s.front_end.prior)
+                                         : odometry::NeedsImu(s.front_end.odometry.method);
+    if (s.queue_size < 1) params.Fail("queue_size", "must be >= 1");
+    if (!(s.gaps.max_gap_s > 0.0)) params.Fail("max_gap_s", "must be > 0");
+    s.local_map_period_s = std::max(1.0, s.local_map_period_s);
     if (s.needs_imu && s.imu_topic.empty())
         params.Fail("imu_topic", "is required: the prior or method needs the IMU");
-    params.Get("tf_from_frame", s.tf_from_frame);
-    params.Get("map_frame", s.map_frame);
-    params.Get("tf_to_frame", s.tf_to_frame);
     if (s.map_frame == s.tf_from_frame || s.map_frame == s.tf_to_frame)
         params.Fail("map_frame", "must differ from tf_from_frame and tf_to_frame (REP 105)");
-    params.Get("publish_tf", s.publish_tf);
-    params.Get("verbose", s.verbose);
     std::vector<double> pose;
     if (params.GetNumbers("initial_pose", 16, pose)) {
         const Eigen::Matrix4d M = Eigen::Map<const Eigen::Matrix4d>(pose.data());  // column-major

@@ -6,133 +6,14 @@
 #include <filesystem>
 #include <vector>
 
-#include "dorado/io/yaml_section.hpp"
+#include "dorado/io/field_yaml.hpp"
+#include "dorado/sim/sequence_fields.hpp"
 
 namespace dorado::sim {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-using io::YamlSection;
-
-void ReadMount(YamlSection s, MountConfig &mount) {
-    s.ReadVector3("translation_m", mount.translation_m);
-    s.ReadVector3("rotation_rpy_deg", mount.rotation_rpy_deg);
-    s.RejectUnknownKeys();
-}
-
-void ReadVehicle(YamlSection s, VehicleConfig &v) {
-    s.ReadEnum("type", v.type,
-               {{"skid_steer", VehicleType::kSkidSteer}, {"ackermann", VehicleType::kAckermann}});
-    s.Read("half_wheelbase_m", v.half_wheelbase_m);
-    s.Read("track_width_m", v.track_width_m);
-    s.Read("wheel_radius_m", v.wheel_radius_m);
-    s.Read("icr_offset_m", v.icr_offset_m);
-    s.Read("icr_offset_sigma_m", v.icr_offset_sigma_m);
-    s.Read("side_slip_gain_s", v.side_slip_gain_s);
-    s.RejectUnknownKeys();
-}
-
-void ReadMotion(YamlSection s, MotionConfig &m) {
-    s.Read("speed_mps", m.speed_mps);
-    s.Read("speed_sigma_mps", m.speed_sigma_mps);
-    s.Read("max_speed_mps", m.max_speed_mps);
-    s.Read("yaw_rate_sigma_radps", m.yaw_rate_sigma_radps);
-    s.Read("max_yaw_rate_radps", m.max_yaw_rate_radps);
-    s.Read("max_lateral_accel_mps2", m.max_lateral_accel_mps2);
-    s.Read("segment_min_s", m.segment_min_s);
-    s.Read("segment_max_s", m.segment_max_s);
-    s.Read("response_time_s", m.response_time_s);
-    s.Read("stop_probability", m.stop_probability);
-    s.Read("reverse_probability", m.reverse_probability);
-    s.Read("max_distance_from_start_m", m.max_distance_from_start_m);
-    s.RejectUnknownKeys();
-}
-
-void ReadTerrain(YamlSection s, TerrainConfig &t) {
-    s.Read("hill_height_m", t.hill_height_m);
-    s.Read("hill_wavelength_m", t.hill_wavelength_m);
-    s.Read("side_slope_height_m", t.side_slope_height_m);
-    s.Read("roughness_m", t.roughness_m);
-    s.Read("roughness_wavelength_m", t.roughness_wavelength_m);
-    s.RejectUnknownKeys();
-}
-
-void ReadWorld(YamlSection s, WorldConfig &w) {
-    s.Read("trees_per_1000m2", w.trees_per_1000m2);
-    s.Read("poles_per_1000m2", w.poles_per_1000m2);
-    s.Read("rocks_per_1000m2", w.rocks_per_1000m2);
-    s.Read("bushes_per_1000m2", w.bushes_per_1000m2);
-    s.Read("buildings_per_1000m2", w.buildings_per_1000m2);
-    s.Read("walls_per_1000m2", w.walls_per_1000m2);
-    s.Read("parked_cars_per_1000m2", w.parked_cars_per_1000m2);
-    s.Read("vegetation_per_m2", w.vegetation_per_m2);
-    s.Read("corridor_half_width_m", w.corridor_half_width_m);
-    s.Read("clearance_m", w.clearance_m);
-    s.RejectUnknownKeys();
-}
-
-void ReadDynamic(YamlSection s, DynamicConfig &d) {
-    s.Read("people", d.people);
-    s.Read("cyclists", d.cyclists);
-    s.Read("cars", d.cars);
-    s.Read("crowds", d.crowds);
-    s.Read("large_vehicles", d.large_vehicles);
-    s.Read("spawn_distance_min_m", d.spawn_distance_min_m);
-    s.Read("spawn_distance_max_m", d.spawn_distance_max_m);
-    s.RejectUnknownKeys();
-}
-
-void ReadRadar(YamlSection s, RadarConfig &r) {
-    ReadMount(s.Child("mount"), r.mount);
-    s.Read("rate_hz", r.rate_hz);
-    s.Read("azimuth_fov_deg", r.azimuth_fov_deg);
-    s.Read("elevation_fov_deg", r.elevation_fov_deg);
-    s.Read("min_range_m", r.min_range_m);
-    s.Read("max_range_m", r.max_range_m);
-    s.Read("range_sigma_m", r.range_sigma_m);
-    s.Read("azimuth_sigma_deg", r.azimuth_sigma_deg);
-    s.Read("elevation_sigma_deg", r.elevation_sigma_deg);
-    s.Read("doppler_sigma_mps", r.doppler_sigma_mps);
-    s.Read("doppler_snr_ref_db", r.doppler_snr_ref_db);
-    s.Read("detection_threshold_db", r.detection_threshold_db);
-    s.Read("snr_at_1m_0dbsm_db", r.snr_at_1m_0dbsm_db);
-    s.Read("noise_floor_db", r.noise_floor_db);
-    s.Read("ground_returns_per_scan", r.ground_returns_per_scan);
-    s.Read("ground_max_range_m", r.ground_max_range_m);
-    s.Read("ground_sigma0_db", r.ground_sigma0_db);
-    s.Read("clutter_per_scan", r.clutter_per_scan);
-    s.Read("ghost_probability", r.ghost_probability);
-    s.Read("double_bounce_probability", r.double_bounce_probability);
-    s.Read("ground_multipath_probability", r.ground_multipath_probability);
-    s.Read("doppler_unambiguous_mps", r.doppler_unambiguous_mps);
-    s.Read("occlusion_leak", r.occlusion_leak);
-    s.Read("max_points", r.max_points);
-    s.Read("frame_id", r.frame_id);
-    s.RejectUnknownKeys();
-}
-
-void ReadImu(YamlSection s, ImuConfig &i) {
-    ReadMount(s.Child("mount"), i.mount);
-    s.Read("rate_hz", i.rate_hz);
-    s.Read("gyro_noise_density", i.gyro_noise_density);
-    s.Read("gyro_bias_sigma_radps", i.gyro_bias_sigma_radps);
-    s.Read("gyro_bias_walk", i.gyro_bias_walk);
-    s.Read("accel_noise_density", i.accel_noise_density);
-    s.Read("accel_bias_sigma_mps2", i.accel_bias_sigma_mps2);
-    s.Read("accel_bias_walk", i.accel_bias_walk);
-    s.Read("frame_id", i.frame_id);
-    s.RejectUnknownKeys();
-}
-
-void ReadGroundTruth(YamlSection s, GroundTruthConfig &g) {
-    s.Read("rate_hz", g.rate_hz);
-    s.Read("position_sigma_m", g.position_sigma_m);
-    s.Read("rotation_sigma_deg", g.rotation_sigma_deg);
-    s.Read("correlation_time_s", g.correlation_time_s);
-    s.RejectUnknownKeys();
-}
 
 /// Collects the first violated range check as an error naming the key.
 class Checker {
@@ -277,26 +158,25 @@ SequenceConfig LoadSequenceConfig(const std::string &yaml_path) {
     config.source_path = yaml_path;
     config.name = fs::path(yaml_path).stem().string();
     try {
-        YamlSection top(io::LoadYamlFile(yaml_path), yaml_path);
-        top.Read("name", config.name);
-        top.Read("description", config.description);
-        top.Read("duration_s", config.duration_s);
-        top.Read("seed", config.seed);
-        top.Read("start_time_s", config.start_time_s);
-        ReadVehicle(top.Child("vehicle"), config.vehicle);
-        ReadMotion(top.Child("motion"), config.motion);
-        ReadTerrain(top.Child("terrain"), config.terrain);
-        ReadWorld(top.Child("world"), config.world);
-        ReadDynamic(top.Child("dynamic"), config.dynamic);
-        ReadRadar(top.Child("radar"), config.radar);
-        ReadImu(top.Child("imu"), config.imu);
-        ReadGroundTruth(top.Child("ground_truth"), config.ground_truth);
-        top.RejectUnknownKeys();
+        io::FieldReader reader(io::YamlSection(io::LoadYamlFile(yaml_path), yaml_path));
+        VisitFields(config, reader);
+        reader.RejectUnknownKeys();
     } catch (const io::ConfigError &e) {
         throw SequenceConfigError(e.what());  // dorado_sim's own error type, same message
     }
     config.Validate();
     return config;
+}
+
+std::string SequenceConfigYaml(const SequenceConfig &config) {
+    SequenceConfig copy = config;
+    io::FieldWriter writer;
+    VisitFields(copy, writer);
+    return writer.text();
+}
+
+std::vector<io::FieldRow> SequenceConfigFields() {
+    return io::ListFields(SequenceConfig{});
 }
 
 std::string FindSequenceFile(const std::string &name_or_path) {

@@ -1,6 +1,7 @@
 #pragma once
 /// @file config_keys.hpp
-/// docs/config_keys.md: every key of configs/odometry.yaml and configs/mapper.yaml with its
+/// docs/config_keys.md: every key of configs/odometry.yaml, configs/mapper.yaml, the dataset
+/// descriptions, the simulated sequences and the bench files with its
 /// built-in default and meaning, generated from the field lists (`dorado config keys`).
 
 #include <string>

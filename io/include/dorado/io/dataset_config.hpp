@@ -1,7 +1,8 @@
 #pragma once
 /// @file dataset_config.hpp
 /// The dataset description (a YAML file under configs/): which reader, which topics or paths, the
-/// field map, the extrinsics and the vehicle geometry. See configs/README.md for every key.
+/// field map, the extrinsics and the vehicle geometry. Every key: dataset_fields.hpp, listed in
+/// docs/config_keys.md.
 
 #include <string>
 #include <vector>
@@ -12,6 +13,8 @@
 #include "dorado/io/pointcloud_decoder.hpp"
 
 namespace dorado::io {
+
+struct FieldRow;  // field_yaml.hpp
 
 /// kRadarScenes and kNuScenes read those data sets' own files (radarscenes_reader.cpp,
 /// nuscenes_reader.cpp): the scans, their times, the mount and the reference trajectory.
@@ -120,7 +123,11 @@ struct DatasetConfig {
 /// paper's Hugin defaults. Throws ConfigError.
 [[nodiscard]] DatasetConfig ResolveDataset(const std::string &argument);
 
-/// The description as YAML text (what LoadDatasetConfig reads back).
+/// The description as YAML text (what LoadDatasetConfig reads back): the field list's keys
+/// (dataset_fields.hpp) but the sections of other readers, each with its doc, and `radars:`.
 [[nodiscard]] std::string DatasetConfigToYaml(const DatasetConfig &config);
+
+/// Every key of a description with its built-in default and doc (`radars[].` a radar's).
+[[nodiscard]] std::vector<FieldRow> DatasetConfigFields();
 
 }  // namespace dorado::io

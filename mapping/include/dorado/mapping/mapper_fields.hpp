@@ -33,6 +33,13 @@ inline Choices<RegistrationCovarianceModel> RegistrationCovarianceChoices() {
             {ToString(M::kClustered), M::kClustered}};
 }
 
+/// The priors, in kAllPriorKinds' order (`dorado map --prior`, the bench's map_priors).
+inline Choices<PriorKind> PriorKindChoices() {
+    Choices<PriorKind> choices;
+    for (const PriorKind kind : kAllPriorKinds) choices.emplace_back(ToString(kind), kind);
+    return choices;
+}
+
 inline Choices<TwistIntegration> TwistIntegrationChoices() {
     return {{ToString(TwistIntegration::kTrapezoid), TwistIntegration::kTrapezoid},
             {ToString(TwistIntegration::kEndpoint), TwistIntegration::kEndpoint}};

@@ -3,12 +3,17 @@
 /// Everything that describes one simulated sequence: duration, seed, vehicle, motion profile,
 /// terrain, world, moving objects, radar, IMU and ground truth. Plain structs with defaults (a
 /// Husky-like robot on a grassy hillside, like the paper's dataset); a sequence YAML under
-/// configs/sequences/ overrides any of them (see configs/sequences/README.md for every key).
+/// configs/sequences/ overrides any of them (every key: sequence_fields.hpp, docs/config_keys.md).
 
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <vector>
+
+namespace dorado::io {
+struct FieldRow;  // io/field_yaml.hpp
+}  // namespace dorado::io
 
 namespace dorado::sim {
 
@@ -164,8 +169,15 @@ struct SequenceConfig {
     void Validate() const;
 };
 
-/// Reads a sequence YAML; every key is optional, unknown keys and wrong types are errors.
+/// Reads a sequence YAML through its field list (sequence_fields.hpp); every key is optional,
+/// unknown keys and wrong types are errors.
 [[nodiscard]] SequenceConfig LoadSequenceConfig(const std::string &yaml_path);
+
+/// @p config as a sequence YAML (what LoadSequenceConfig reads back), each key with its doc.
+[[nodiscard]] std::string SequenceConfigYaml(const SequenceConfig &config);
+
+/// Every key of a sequence file with its built-in default and doc.
+[[nodiscard]] std::vector<io::FieldRow> SequenceConfigFields();
 
 /// The YAML file a `--sequence` argument names: an existing file, or NAME looked up as
 /// configs/sequences/NAME.yaml in the working directory and in the source tree.
