@@ -4,6 +4,7 @@
 // dorado::io, the mapper's settings read through dorado::config, and every scan run through
 // dorado::frontend (Doppler odometry, dorado::odometry; scan-to-map registration, dorado::mapping).
 // Truth: the base is at x = 5 m/s * t, y = z = 0, heading 0. Usage: mapper_consumer WORK_DIR
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -50,7 +51,7 @@ std::vector<Eigen::Vector3d> Street() {
     return points;
 }
 
-// Scan k: up to 600 of the points the radar sees (range 1-60 m, azimuth +-70 deg, elevation +-20
+// Scan k: about 600 of the points the radar sees (range 1-60 m, azimuth +-70 deg, elevation +-20
 // deg), each with its radial Doppler (positive = receding: a static point seen from a radar moving
 // at v reads -d . v), written as rows of float32 x y z power doppler.
 void WriteScan(const std::vector<Eigen::Vector3d> &street, int k, const fs::path &file,
