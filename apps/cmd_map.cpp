@@ -102,18 +102,11 @@ void RunMap(const MapOptions &opt) {
     guard.ThrowIfNoScanUsed(loop.used(), reader->source());
 
     outputs.Write(opt.out, front_end.trajectory());
-    nlohmann::json summary = {
-        {"dataset", dataset.name},
-        {"prior", mapping::ToString(config.prior)},
-        {"mask", config.use_mask},
-        {"refinement", mapping::ToString(config.mapper.refinement)},
-        {"method", mapping::ToString(config.mapper.method)},
-        {"stopped_early",
-         guard.stopped().empty() ? nlohmann::json() : nlohmann::json(guard.stopped())},
-        {"scans", loop.scans()},
-        {"scans_registered", loop.used()},
-        {"scans_skipped", loop.scans() - loop.used()},
-        {"path_length_m", front_end.trajectory().PathLength()}};
+    nlohmann::json summary = MapRunSummary(dataset.name, config, guard.stopped());
+    summary.update({{"scans", loop.scans()},
+                    {"scans_registered", loop.used()},
+                    {"scans_skipped", loop.scans() - loop.used()},
+                    {"path_length_m", front_end.trajectory().PathLength()}});
     if (!radars_used.is_null()) summary["radars"] = radars_used;
     AddStreamCounts(loop, summary);
     summary.update(outputs.Summary());

@@ -41,6 +41,16 @@ nlohmann::json TimeStatistics(std::vector<double> values_ms) {
     return {{"mean", mean}, {"median", values_ms[values_ms.size() / 2]}, {"p95", at(0.95)}};
 }
 
+nlohmann::json MapRunSummary(const std::string &dataset_name,
+                             const frontend::FrontEndConfig &config, const std::string &stopped) {
+    return {{"dataset", dataset_name},
+            {"prior", mapping::ToString(config.prior)},
+            {"mask", config.use_mask},
+            {"refinement", mapping::ToString(config.mapper.refinement)},
+            {"method", mapping::ToString(config.mapper.method)},
+            {"stopped_early", stopped.empty() ? nlohmann::json() : nlohmann::json(stopped)}};
+}
+
 MapOutputs::MapOutputs(double map_cell_m) : csv_(kCsvHeader), map_cell_m_(map_cell_m) {}
 
 Eigen::Matrix3Xd MapOutputs::MapPoints() const {

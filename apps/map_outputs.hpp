@@ -64,4 +64,10 @@ class MapOutputs {
 /// {"mean", "median", "p95"} of the values (null when empty).
 [[nodiscard]] nlohmann::json TimeStatistics(std::vector<double> values_ms);
 
+/// summary.json's description of a map run: dataset, prior, mask, refinement, method and whether
+/// the stream stopped early (`stopped`: empty when it did not).
+[[nodiscard]] nlohmann::json MapRunSummary(const std::string &dataset_name,
+                                           const frontend::FrontEndConfig &config,
+                                           const std::string &stopped);
+
 }  // namespace dorado::apps

@@ -129,24 +129,17 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
                           {"twist_updates", CountsByKey(c.updates)}});
         radars.back().update(MountRecord(front_end.twist_filter(), k));
     }
-    nlohmann::json summary = {
-        {"dataset", dataset.name},
-        {"prior", mapping::ToString(config.prior)},
-        {"mask", config.use_mask},
-        {"refinement", mapping::ToString(config.mapper.refinement)},
-        {"method", mapping::ToString(config.mapper.method)},
-        {"stopped_early",
-         guard.stopped().empty() ? nlohmann::json() : nlohmann::json(guard.stopped())},
-        {"scans", scans},
-        {"scans_registered", sweeps},
-        {"sweeps", sweeps},
-        {"radars_per_sweep_mean", sweeps > 0 ? radars_per_sweep / double(sweeps) : 0.0},
-        {"radars", radars},
-        {"skip_reasons", skips.Counts()},
-        {"skipped", skips.Scans()},
-        {"nonfinite_points_removed", nonfinite},
-        {"radar_geometry", "planar"},
-        {"path_length_m", front_end.trajectory().PathLength()}};
+    nlohmann::json summary = MapRunSummary(dataset.name, config, guard.stopped());
+    summary.update({{"scans", scans},
+                    {"scans_registered", sweeps},
+                    {"sweeps", sweeps},
+                    {"radars_per_sweep_mean", sweeps > 0 ? radars_per_sweep / double(sweeps) : 0.0},
+                    {"radars", radars},
+                    {"skip_reasons", skips.Counts()},
+                    {"skipped", skips.Scans()},
+                    {"nonfinite_points_removed", nonfinite},
+                    {"radar_geometry", "planar"},
+                    {"path_length_m", front_end.trajectory().PathLength()}});
     summary.update(outputs.Summary());
     WriteSummary(out_dir, summary);
     std::fprintf(stderr,
