@@ -94,13 +94,8 @@ void RunTwist(const TwistOptions &opt) {
         // Dead reckoning: the interval since the previous scan (any radar's) at the twist before
         // this scan's update (the filter's estimate over that interval).
         if (last_stamp)
-            T_world_base = T_world_base * ExpSE3([&] {
-                               const double dt = NanosToSeconds(stamp - *last_stamp);
-                               const Eigen::Vector3d x = filter.twist();
-                               Vector6d xi = Vector6d::Zero();
-                               xi << x(0) * dt, x(1) * dt, 0.0, 0.0, 0.0, x(2) * dt;
-                               return xi;
-                           }());
+            T_world_base =
+                T_world_base * ExpSE3(filter.MotionOver(NanosToSeconds(stamp - *last_stamp)));
         last_stamp = stamp;
         const odometry::EgoVelocityResult ego = estimator.Estimate(event.scan);
         const odometry::TwistUpdate update = filter.Update(stamp, event.radar, ego);

@@ -24,14 +24,6 @@ struct KeptScan {
     mapping::PointMask static_mask, moving_mask;
 };
 
-// The base's twist over [t, t + dt] from the filter's (v_x, v_y, yaw rate): a 6-vector
-// [v; omega] times dt (ExpSE3's [rho; phi]).
-Vector6d TwistStep(const Eigen::Vector3d &twist, double dt_s) {
-    Vector6d xi = Vector6d::Zero();
-    xi << twist(0) * dt_s, twist(1) * dt_s, 0.0, 0.0, 0.0, twist(2) * dt_s;
-    return xi;
-}
-
 // The filter's twist as the priors' BaseTwist. The plane's other three (v_z, roll and pitch
 // rates) are held by the planar mapper: small spreads keep the prior positive definite.
 mapping::BaseTwist PriorTwistOf(const Eigen::Vector3d &twist, const Eigen::Matrix3d &P,
@@ -68,7 +60,6 @@ struct MultiRadarFrontEnd::State {
     }
 
     void Keep(std::size_t radar, const RadarScan &scan, const odometry::EgoVelocityResult &ego);
-    [[nodiscard]] Eigen::Vector3d RadarVelocity(std::size_t radar) const;
     [[nodiscard]] RadarScan MergedCloud(int64_t stamp_ns, mapping::PointMask &static_mask,
                                         mapping::PointMask &moving_mask) const;
     [[nodiscard]] mapping::MotionPrior BuildPrior(int64_t stamp_ns, double dt_s,
@@ -94,15 +85,6 @@ struct MultiRadarFrontEnd::State {
     std::optional<mapping::BaseTwist> last_twist;
 };
 
-// The radar's velocity in its own frame from the filter's twist: R^T [1 0 -s_y; 0 1 s_x] x.
-Eigen::Vector3d MultiRadarFrontEnd::State::RadarVelocity(std::size_t radar) const {
-    const Eigen::Isometry3d T = filter.T_base_radar(radar);
-    const Eigen::Vector3d x = filter.twist();
-    const Eigen::Vector3d s = T.translation();
-    const Eigen::Vector3d v_base(x(0) - x(2) * s.y(), x(1) + x(2) * s.x(), 0.0);
-    return T.linear().transpose() * v_base;
-}
-
 // The scan's finite points and their labels: the radar's own mask when its ego-velocity is
 // valid; else, once the filter knows the twist, the points whose Doppler agrees with what the
 // twist predicts for a static point at this radar (within the movers' min_radial_speed_mps);
@@ -111,7 +93,7 @@ void MultiRadarFrontEnd::State::Keep(std::size_t radar, const RadarScan &scan,
                                      const odometry::EgoVelocityResult &ego) {
     const double min_speed = config.mapper.movers.min_radial_speed_mps;
     const bool filter_knows = filter.stamp_ns().has_value() && filter.covariance()(0, 0) < 1.0;
-    const Eigen::Vector3d v_radar = ego.valid() ? ego.v_radar_mps : RadarVelocity(radar);
+    const Eigen::Vector3d v_radar = ego.valid() ? ego.v_radar_mps : filter.RadarVelocity(radar);
     KeptScan k;
     k.radar = radar;
     k.stamp_ns = scan.stamp_ns;
@@ -160,7 +142,7 @@ RadarScan MultiRadarFrontEnd::State::MergedCloud(int64_t stamp_ns, mapping::Poin
     Eigen::Index at = 0;
     for (const KeptScan &k : kept) {
         const Eigen::Isometry3d T_sweep_radar =
-            ExpSE3(TwistStep(filter.twist(), NanosToSeconds(k.stamp_ns - stamp_ns))) *
+            ExpSE3(filter.MotionOver(NanosToSeconds(k.stamp_ns - stamp_ns))) *
             filter.T_base_radar(k.radar);
         const Eigen::Index m = k.xyz_radar.cols();
         merged.xyz_radar.middleCols(at, m) = T_sweep_radar * k.xyz_radar;
@@ -260,7 +242,7 @@ FrontEndResult MultiRadarFrontEnd::State::CloseSweep(int64_t stamp_ns) {
     result.twist_base.covariance.setZero();
     result.twist_base.covariance.topLeftCorner<3, 3>() = now.cov_v_base;
     result.twist_base.covariance.bottomRightCorner<3, 3>() = now.cov_omega_base;
-    if (sweeps > 0) T_odometry = T_odometry * ExpSE3(TwistStep(filter.twist(), result.dt_s));
+    if (sweeps > 0) T_odometry = T_odometry * ExpSE3(filter.MotionOver(result.dt_s));
     result.T_world_base_odometry = T_odometry;
 
     const auto t_prior = Clock::now();

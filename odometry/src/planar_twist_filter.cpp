@@ -103,6 +103,19 @@ Eigen::Isometry3d PlanarTwistFilter::T_base_radar(std::size_t radar) const {
     return T;
 }
 
+Eigen::Vector3d PlanarTwistFilter::RadarVelocity(std::size_t radar) const {
+    const Eigen::Isometry3d T = T_base_radar(radar);
+    const Eigen::Vector3d s = T.translation();
+    const Eigen::Vector3d v_base(x_(0) - x_(2) * s.y(), x_(1) + x_(2) * s.x(), 0.0);
+    return T.linear().transpose() * v_base;
+}
+
+Vector6d PlanarTwistFilter::MotionOver(double dt_s) const {
+    Vector6d xi = Vector6d::Zero();
+    xi << x_(0) * dt_s, x_(1) * dt_s, 0.0, 0.0, 0.0, x_(2) * dt_s;
+    return xi;
+}
+
 TwistUpdate PlanarTwistFilter::Update(int64_t stamp_ns, std::size_t radar,
                                       const EgoVelocityResult &ego) {
     const Eigen::Isometry3d &T = T_base_radars_.at(radar);

@@ -337,7 +337,7 @@ TEST_F(FolderReaderTest, RadarsAreMergedInTimeOrderAndAnotherClockIsRefused) {
         order.emplace_back(e.stamp_ns, e.radar);
     }
     const std::vector<std::pair<int64_t, std::size_t>> expected = {
-        {50000000, 1}, {100000000, 0}, {150000000, 1}, {200000000, 0},
+        {50000000, 1},  {100000000, 0}, {150000000, 1}, {200000000, 0},
         {250000000, 1}, {300000000, 0}, {350000000, 1}};
     EXPECT_EQ(order, expected);
 

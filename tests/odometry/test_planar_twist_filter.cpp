@@ -89,6 +89,13 @@ TEST(PlanarTwistFilter, GatesARadarThatLockedOntoMoversAndRestartsWhenAllDisagre
         ASSERT_NE(filter.Update(scan.stamp_ns, i % 4, estimator.Estimate(scan)),
                   TwistUpdate::kGated);
     }
+    // What each radar should measure at the filter's twist is what it does measure.
+    for (std::size_t k = 0; k < rig.published.size(); ++k)
+        EXPECT_LT(
+            (filter.RadarVelocity(k) - estimator.Estimate(rig.Scan(k, 0.78, 50 + k)).v_radar_mps)
+                .norm(),
+            0.05)
+            << k;
     const Eigen::Vector3d before = filter.twist();
     EgoVelocityResult crowd = estimator.Estimate(rig.Scan(0, 0.8, 99));
     crowd.v_radar_mps.x() -= 6.0;  // a bus moving with the radar

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "dorado/core/extrinsics.hpp"
+#include "dorado/core/lie.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
 
 namespace dorado::odometry {
@@ -84,6 +85,11 @@ class PlanarTwistFilter {
     /// without calibrate_mount_yaw).
     [[nodiscard]] double mount_yaw_offset_rad(std::size_t radar) const;
     [[nodiscard]] double mount_yaw_sigma_rad(std::size_t radar) const;
+    /// What radar @p radar measures for a static world at the current twist: its velocity in its
+    /// calibrated frame, R^T [1 0 -s_y; 0 1 s_x] (v_x, v_y, omega_z) (z = 0).
+    [[nodiscard]] Eigen::Vector3d RadarVelocity(std::size_t radar) const;
+    /// The base's motion over @p dt_s at the current twist, as ExpSE3's [rho; phi] (planar).
+    [[nodiscard]] Vector6d MotionOver(double dt_s) const;
     /// The mount as calibrated: the published one turned by its yaw offset.
     [[nodiscard]] Eigen::Isometry3d T_base_radar(std::size_t radar) const;
     [[nodiscard]] std::size_t radars() const { return T_base_radars_.size(); }

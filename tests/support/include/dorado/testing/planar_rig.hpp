@@ -29,10 +29,9 @@ struct PlanarRig {
     double max_range_m = 60.0;
     double half_fov_deg = 75.0;
     /// The published mounts (what the estimator is told) and the true yaw offsets [deg].
-    std::vector<Eigen::Isometry3d> published = {PlanarMount(3.6, 0.0, 0.0),
-                                                PlanarMount(2.5, 0.9, 85.0),
-                                                PlanarMount(2.5, -0.9, -85.0),
-                                                PlanarMount(-0.5, 0.8, 150.0)};
+    std::vector<Eigen::Isometry3d> published = {
+        PlanarMount(3.6, 0.0, 0.0), PlanarMount(2.5, 0.9, 85.0), PlanarMount(2.5, -0.9, -85.0),
+        PlanarMount(-0.5, 0.8, 150.0)};
     std::vector<double> yaw_offset_deg = std::vector<double>(4, 0.0);
     std::vector<Eigen::Vector2d> landmarks;
 
@@ -68,9 +67,9 @@ struct PlanarRig {
     }
     [[nodiscard]] Eigen::Isometry3d TrueMount(std::size_t k) const {
         Eigen::Isometry3d T = published[k];
-        T.linear() = T.linear() *
-                     Eigen::AngleAxisd(yaw_offset_deg[k] * M_PI / 180.0, Eigen::Vector3d::UnitZ())
-                         .matrix();
+        T.linear() =
+            T.linear() *
+            Eigen::AngleAxisd(yaw_offset_deg[k] * M_PI / 180.0, Eigen::Vector3d::UnitZ()).matrix();
         return T;
     }
     /// Radar k's scan at time t (its own frame, z = 0), with Doppler noise.
