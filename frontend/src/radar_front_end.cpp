@@ -237,10 +237,8 @@ mapping::MotionPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometrySt
             built = constvel();
             break;
         case PriorKind::kImu: {
-            const Eigen::Vector3d v_world =
-                has_two
-                    ? Eigen::Vector3d((T_prev.translation() - T_prev2.translation()) / last_dt_s)
-                    : Eigen::Vector3d::Zero();
+            std::optional<Eigen::Vector3d> v_world;  // unknown from one pose
+            if (has_two) v_world = (T_prev.translation() - T_prev2.translation()) / last_dt_s;
             built = mapping::PriorFromImu(T_prev, v_world, imu_samples, last_stamp_ns, stamp_ns,
                                           extrinsics.T_base_imu, noise);
             if (!built) why_not = PriorSubstitution::kNoImuSamples;

@@ -114,7 +114,7 @@ MotionPrior PriorConstantVelocity(const Eigen::Isometry3d &T_world_base_prevprev
 }
 
 std::optional<MotionPrior> PriorFromImu(const Eigen::Isometry3d &T_world_base_prev,
-                                        const Eigen::Vector3d &v_world_prev_mps,
+                                        const std::optional<Eigen::Vector3d> &v_world_prev_mps,
                                         const std::vector<ImuSample> &samples, int64_t t0_ns,
                                         int64_t t1_ns, const Eigen::Isometry3d &T_base_imu,
                                         const PriorNoiseConfig &noise) {
@@ -122,7 +122,7 @@ std::optional<MotionPrior> PriorFromImu(const Eigen::Isometry3d &T_world_base_pr
     const Eigen::Matrix3d R_base_imu = T_base_imu.linear();
     Eigen::Matrix3d R_world_base = T_world_base_prev.linear();
     Eigen::Vector3d p_world = T_world_base_prev.translation();
-    Eigen::Vector3d v_world = v_world_prev_mps;
+    Eigen::Vector3d v_world = v_world_prev_mps.value_or(Eigen::Vector3d::Zero());
     int64_t t_ns = t0_ns;
     bool any = false;
     // Zero-order hold of each sample from the previous time to its stamp; the last sample holds
@@ -159,8 +159,9 @@ std::optional<MotionPrior> PriorFromImu(const Eigen::Isometry3d &T_world_base_pr
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.linear() = R_world_base;
     T.translation() = p_world;
-    const double sigma_t =
-        noise.imu_velocity_sigma_mps * dt + 0.5 * noise.imu_accel_sigma_mps2 * dt * dt;
+    const double sigma_t = v_world_prev_mps ? noise.imu_velocity_sigma_mps * dt +
+                                                  0.5 * noise.imu_accel_sigma_mps2 * dt * dt
+                                            : noise.none_sigma_translation_m;
     const double sigma_r = noise.imu_gyro_sigma_radps * dt;
     return MotionPrior{T, BlockDiagonal(Isotropic(sigma_t), Isotropic(sigma_r)), PriorKind::kImu};
 }

@@ -112,6 +112,15 @@ TEST(MotionPrior, ImuIntegratesConstantAccelerationAndRotationExactly) {
     EXPECT_LT((LogSO3(prior->T_world_base.linear()) - Eigen::Vector3d(0, 0, 0.05)).norm(), 1e-9);
     EXPECT_LT(prior->T_world_base.translation().norm(), 1e-9);
 
+    // No start velocity (one pose so far): the translation spreads as far as `none`'s, the
+    // rotation still the gyro's.
+    const auto from_unknown = PriorFromImu(Eigen::Isometry3d::Identity(), std::nullopt, samples, t0,
+                                           t1, T_base_imu, noise);
+    ASSERT_TRUE(from_unknown.has_value());
+    EXPECT_NEAR(std::sqrt(from_unknown->covariance(0, 0)), noise.none_sigma_translation_m, 1e-12);
+    EXPECT_NEAR(from_unknown->covariance(3, 3), prior->covariance(3, 3), 1e-15);
+    EXPECT_LT(std::sqrt(prior->covariance(0, 0)), 0.1 * noise.none_sigma_translation_m);
+
     // No sample: no prior.
     EXPECT_FALSE(
         PriorFromImu(Eigen::Isometry3d::Identity(), v0, {}, t0, t1, T_base_imu, noise).has_value());

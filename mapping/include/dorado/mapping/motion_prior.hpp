@@ -128,12 +128,14 @@ struct PriorNoiseConfig {
 /// `imu`: gyro rotation and accelerometer double integration over (t0_ns, t1_ns], starting from
 /// the previous pose and the world velocity v_world_prev_mps. Empty when no sample falls in the
 /// interval. The lever arm of the IMU is neglected in the acceleration (a few mm/s^2 on a car).
-[[nodiscard]] std::optional<MotionPrior> PriorFromImu(const Eigen::Isometry3d &T_world_base_prev,
-                                                      const Eigen::Vector3d &v_world_prev_mps,
-                                                      const std::vector<ImuSample> &samples,
-                                                      int64_t t0_ns, int64_t t1_ns,
-                                                      const Eigen::Isometry3d &T_base_imu,
-                                                      const PriorNoiseConfig &noise);
+/// No start velocity (the first interval: one pose gives none) integrates from rest with the
+/// translation spread of `none`: an accelerometer alone cannot say how fast the vehicle already
+/// goes, and a prior that claimed rest would refuse every registration of a moving start.
+[[nodiscard]] std::optional<MotionPrior> PriorFromImu(
+    const Eigen::Isometry3d &T_world_base_prev,
+    const std::optional<Eigen::Vector3d> &v_world_prev_mps, const std::vector<ImuSample> &samples,
+    int64_t t0_ns, int64_t t1_ns, const Eigen::Isometry3d &T_base_imu,
+    const PriorNoiseConfig &noise);
 
 /// `doppler` (the paper): constant base twist from the Doppler odometry over dt_s,
 /// T = T_prev * ExpSE3([v; omega] dt), covariance blockdiag(cov_v, cov_omega) dt^2 with floors.
