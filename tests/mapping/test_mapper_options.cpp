@@ -1,7 +1,8 @@
 // Mapper settings whose doc promises a behaviour, checked on the synthetic street against the
 // numbers the doc implies: the keyframe rule (the map is updated only after keyframe_distance_m or
-// keyframe_angle_deg since the last update; 0 and 0: every scan) and refine_outer_iterations (each
-// round re-associates at the refined pose, so a registration cut short converges).
+// keyframe_angle_deg since the last update; 0 and 0: every scan), refine_outer_iterations (each
+// round re-associates at the refined pose, so a registration cut short converges) and the jump
+// test (max_prior_mahalanobis_squared: a registration that far from the prior falls back).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -151,6 +152,40 @@ TEST(MapperOptions, RefineOuterIterationsReassociateACutShortRegistration) {
                 eight);
     EXPECT_LT(eight, 0.3);
     EXPECT_GT(one, 2.0 * eight);
+}
+
+// The jump test: a prior 0.8 m to the side of the truth with 2 cm of uncertainty (widened by the
+// registration's own 0.1 m) puts the registered pose about 8 sigmas away, Mahalanobis^2 ~ 60: above
+// max_prior_mahalanobis_squared = 25 the scan falls back to the prior as a jump; with the gate at
+// 1000 the same registration is trusted.
+TEST(MapperOptions, AJumpBeyondThePriorsGateFallsBackToThePrior) {
+    const Eigen::Isometry3d T_first(Eigen::Translation3d(10.0, 0.0, 0.0));
+    const Eigen::Isometry3d T_true(Eigen::Translation3d(10.8, 0.0, 0.0));
+    const Eigen::Vector3d v_base(8.0, 0.0, 0.0);
+    MotionPrior prior = PriorAt(Eigen::Isometry3d(Eigen::Translation3d(10.8, 0.8, 0.0)));
+    prior.covariance.diagonal().head<3>().setConstant(0.02 * 0.02);
+    auto second_scan = [&](double gate) {
+        MapperConfig config;
+        config.max_prior_mahalanobis_squared = gate;
+        RadarMapper mapper(config, Mount());
+        std::mt19937 rng(9);
+        mapper.Register(ScanFrom(T_first, v_base, Eigen::Vector3d::Zero(), rng), PriorAt(T_first),
+                        kDtS);
+        return mapper.Register(ScanFrom(T_true, v_base, Eigen::Vector3d::Zero(), rng), prior, kDtS);
+    };
+    const RegistrationResult gated = second_scan(25.0);
+    std::printf("Mahalanobis^2 of the registration from the prior: %.1f\n",
+                gated.prior_mahalanobis_squared);
+    EXPECT_EQ(gated.fallback_cause, FallbackCause::kJump) << ToString(gated.fallback_cause);
+    // The registration at the truth, 0.8 m from the prior across a variance of 0.02^2 + 0.1^2.
+    EXPECT_NEAR(gated.prior_mahalanobis_squared, 0.8 * 0.8 / (0.02 * 0.02 + 0.1 * 0.1), 10.0);
+    EXPECT_TRUE(gated.T_world_base.isApprox(prior.T_world_base));
+    EXPECT_FALSE(gated.registered.valid);
+
+    const RegistrationResult trusted = second_scan(1000.0);
+    ASSERT_FALSE(trusted.fallback()) << ToString(trusted.fallback_cause);
+    EXPECT_NEAR(trusted.prior_mahalanobis_squared, gated.prior_mahalanobis_squared, 1e-9);
+    EXPECT_TRUE(trusted.registered.valid);
 }
 
 }  // namespace
