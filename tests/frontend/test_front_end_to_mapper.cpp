@@ -164,7 +164,8 @@ struct RolledDrive {
 
 // The ground in the mapper's prior (refinement none: the front end's prior filter): the first
 // ground observation sets the start's roll and pitch, so the map is built level with the road and
-// every pose has the true roll. Without the ground every pose keeps the start's 3 deg error.
+// every pose has the true roll (measured within 0.3 deg). Without the ground the poses keep most
+// of the start's 3 deg error (measured 2.56 to 3.08 deg).
 TEST(FrontEndToMapper, TheGroundInThePriorLevelsARolledStart) {
     const RolledDrive drive(10);
     FrontEndConfig config;
@@ -173,9 +174,12 @@ TEST(FrontEndToMapper, TheGroundInThePriorLevelsARolledStart) {
     const RolledDrive::Run without = drive.Drive(config, false);
     EXPECT_GE(with.ground_fits, 8);
     for (std::size_t k = 0; k < drive.scans.size(); ++k) {
+        std::printf("%zu: roll, pitch error [deg] %.3f %.3f with the ground, %.3f %.3f without\n",
+                    k, with.roll_pitch_error_deg[k].x(), with.roll_pitch_error_deg[k].y(),
+                    without.roll_pitch_error_deg[k].x(), without.roll_pitch_error_deg[k].y());
         EXPECT_LT(with.roll_pitch_error_deg[k].cwiseAbs().maxCoeff(), 0.5)
             << k << ": roll, pitch error [deg] " << with.roll_pitch_error_deg[k].transpose();
-        EXPECT_GT(std::abs(without.roll_pitch_error_deg[k].x()), 2.5) << k;
+        EXPECT_GT(std::abs(without.roll_pitch_error_deg[k].x()), 2.0) << k;
     }
 }
 
