@@ -94,15 +94,6 @@ Matrix6d AdjointSE3(const Eigen::Isometry3d &T) {
     return Ad;
 }
 
-Matrix6d InnovationInformation(const Matrix6d &C_predicted,
-                               const Matrix6d &registration_information) {
-    const Matrix6d &I_R = registration_information;
-    const Matrix6d posterior =
-        CovarianceFromInformation(CovarianceFromInformation(C_predicted) + I_R);
-    const Matrix6d S_inv = I_R - I_R * posterior * I_R;
-    return 0.5 * (S_inv + S_inv.transpose());
-}
-
 Matrix6d FilterMotionCovariance(const Matrix6d &P_predicted, const Matrix6d &Q, const Matrix6d &P) {
     const Matrix6d P_predicted_inv = CovarianceFromInformation(P_predicted);
     const Matrix6d I_measured = CovarianceFromInformation(P) - P_predicted_inv;

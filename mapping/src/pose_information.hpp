@@ -46,12 +46,6 @@ namespace dorado::mapping {
 /// Ad(T) in the xi = [rho; phi] convention: T ExpSE3(xi) = ExpSE3(Ad(T) xi) T.
 [[nodiscard]] Matrix6d AdjointSE3(const Eigen::Isometry3d &T);
 
-/// The innovation's information S^-1 = (C_predicted + I_R^+)^-1 for a predicted pose of covariance
-/// C_predicted (invertible) and a measurement of the pose with information I_R (singular along
-/// the directions it does not observe), by Woodbury: I_R - I_R (C_predicted^-1 + I_R)^-1 I_R.
-[[nodiscard]] Matrix6d InnovationInformation(const Matrix6d &C_predicted,
-                                             const Matrix6d &registration_information);
-
 /// The covariance of the motion T_prev^-1 T of a filter step (refinement: filter) whose prediction
 /// had covariance P_predicted = P' + Q (P' the previous posterior moved to the new pose, Q the
 /// prior's one-step covariance) and whose posterior is P = (P_predicted^-1 + I_m)^-1 (I_m: the

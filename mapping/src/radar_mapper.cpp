@@ -274,20 +274,6 @@ MotionPrior WidenedPrior(const MotionPrior &prior, const MapperConfig &config) {
     return widened;
 }
 
-// The jump test on the innovation: xi = Log(prior^-1 T) under C_prior + C_registration, the
-// registration's covariance from its matches at T (a singular or failed one: the widened prior's
-// test's registration sigmas stand in).
-double InnovationMahalanobisSquared(const MotionPrior &prior, const Eigen::Isometry3d &T_world_base,
-                                    const Association &association, const MapperConfig &config) {
-    const auto loss = MakeLoss(config.kernel, config.kernel_scale);
-    const RegisteredPose registration =
-        RegistrationCovariance(T_world_base, association.matches, loss.get(), config);
-    if (!registration.valid)
-        return PriorMahalanobisSquared(WidenedPrior(prior, config), T_world_base);
-    const Vector6d delta = LogSE3(prior.T_world_base.inverse() * T_world_base);
-    return delta.dot(InnovationInformation(prior.covariance, registration.information) * delta);
-}
-
 // Why a registration is not trusted (kNone when it is), with the numbers: convergence, support,
 // fitness, observability and the jump test, in that order.
 std::pair<FallbackCause, std::string> CheckRegistration(const PclAlignment &aligned,
@@ -416,9 +402,7 @@ MapRegistration RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source
     out.association = Associate(source_base, aligned.T_world_base, map, config, threshold_m,
                                 config.max_registration_residuals);
     out.prior_mahalanobis_squared =
-        config.jump_gate_innovation
-            ? InnovationMahalanobisSquared(prior_map, aligned.T_world_base, out.association, config)
-            : PriorMahalanobisSquared(WidenedPrior(prior_map, config), aligned.T_world_base);
+        PriorMahalanobisSquared(WidenedPrior(prior_map, config), aligned.T_world_base);
     out.registration_ms = MillisecondsSince(t_reg);
     std::tie(out.cause, out.detail) =
         CheckRegistration(aligned, out.association, out.prior_mahalanobis_squared, config);

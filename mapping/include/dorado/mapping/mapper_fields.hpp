@@ -151,8 +151,6 @@ void VisitFields(MapperConfig &c, Visitor &&v) {
       "jump test: registration noise [m]");
     v("registration_sigma_rotation_rad", c.registration_sigma_rotation_rad,
       "jump test: registration noise [rad]");
-    v("jump_gate_innovation", c.jump_gate_innovation,
-      "jump test on the innovation instead of the sigmas above");
 }
 
 template <typename Visitor>

@@ -100,12 +100,6 @@ struct MapperConfig {
     double max_prior_mahalanobis_squared = 25.0;
     double registration_sigma_translation_m = 0.1;
     double registration_sigma_rotation_rad = 0.01;
-    /// The jump test on the innovation instead: the registered pose's distance from the prior
-    /// under the prior's covariance plus the registration's own (registration_covariance at PCL's
-    /// pose, with its floor and weak directions), so a young map's or a weak direction's wide
-    /// registration widens the gate by what it shows, and a tight one narrows it. The
-    /// registration_sigma_* above are then unused.
-    bool jump_gate_innovation = false;
     /// The registration's own noise that no scan's residuals show (the map's error, shared by all
     /// of a scan's matches): added to the registration's covariance, per axis (1 sigma).
     double registration_floor_sigma_translation_m = 0.03;
