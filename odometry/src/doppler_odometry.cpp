@@ -1,5 +1,7 @@
 #include "dorado/odometry/doppler_odometry.hpp"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -51,6 +53,8 @@ void DopplerOdometryConfig::Validate() const {
     ego_velocity.Validate();
     ground.Validate();
     online_calibration.Validate();
+    if (!(max_acceleration_mps2 >= 0.0) || !std::isfinite(max_acceleration_mps2))
+        throw std::invalid_argument("odometry.max_acceleration_mps2: must be >= 0 (0 = off)");
     if (!(max_angular_rate_radps > 0.0))
         throw std::invalid_argument("odometry.max_angular_rate_radps: must be > 0");
 }
@@ -118,6 +122,29 @@ void DopplerOdometry::EstimatePlanar(const RadarScan &scan_radar, OdometryStep &
         step.motion = planar_model_->Motion(step.ego.v_radar_mps, step.ego.cov_v_radar);
 }
 
+EgoVelocityResult DopplerOdometry::EstimateVelocity(const RadarScan &scan_radar) {
+    EgoVelocityResult ego;
+    if (last_velocity_ && config_.max_acceleration_mps2 > 0.0 && !restarted_) {
+        VelocityPrediction within = *last_velocity_;
+        within.radius_mps +=
+            config_.max_acceleration_mps2 * NanosToSeconds(scan_radar.stamp_ns - last_stamp_ns_);
+        ego = estimator_.Estimate(scan_radar, within);
+    } else {
+        ego = estimator_.Estimate(scan_radar);
+    }
+    last_velocity_.reset();
+    if (ego.valid()) {
+        // The ball starts at the velocity's own 3 sigma (its largest direction).
+        const double variance_max =
+            Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(ego.cov_v_radar, Eigen::EigenvaluesOnly)
+                .eigenvalues()
+                .maxCoeff();
+        last_velocity_ =
+            VelocityPrediction{ego.v_radar_mps, 3.0 * std::sqrt(std::max(variance_max, 0.0))};
+    }
+    return ego;
+}
+
 OdometryStep DopplerOdometry::Register(const RadarScan &scan_radar,
                                        const Eigen::Vector3d &gyro_base_radps) {
     OdometryStep step;
@@ -133,7 +160,7 @@ OdometryStep DopplerOdometry::Register(const RadarScan &scan_radar,
         EstimatePlanar(scan_radar, step);
     } else {
         // Also for kImu: its `stationary` flag lets the front end estimate the gyro bias at rest.
-        step.ego = estimator_.Estimate(scan_radar);
+        step.ego = EstimateVelocity(scan_radar);
         if (!step.ego.valid() && IsPlanarScan(scan_radar)) {  // radar.geometry 3d on a 2D radar
             const std::string hint = "every z is 0: a 2D radar; set radar.geometry planar or auto";
             std::string &detail = step.ego.failure_detail;
@@ -172,6 +199,7 @@ void DopplerOdometry::Restart(const Eigen::Isometry3d &T_world_base) {
     T_world_base_ = T_world_base;
     restarted_ = true;
     ground_filter_.Reset();
+    last_velocity_.reset();
     has_last_twist_ = false;
     last_v_base_.setZero();
     last_omega_base_.setZero();

@@ -242,6 +242,28 @@ EgoVelocityEstimator::EgoVelocityEstimator(EgoVelocityEstimator &&) noexcept = d
 EgoVelocityEstimator &EgoVelocityEstimator::operator=(EgoVelocityEstimator &&) noexcept = default;
 
 EgoVelocityResult EgoVelocityEstimator::Estimate(const RadarScan &scan_radar) {
+    return EstimateWithin(scan_radar, std::nullopt);
+}
+
+EgoVelocityResult EgoVelocityEstimator::Estimate(const RadarScan &scan_radar,
+                                                 const VelocityPrediction &prediction) {
+    return EstimateWithin(scan_radar, prediction);
+}
+
+const char *ToString(PredictionUse use) {
+    switch (use) {
+        case PredictionUse::kNone:
+            return "none";
+        case PredictionUse::kInside:
+            return "inside";
+        case PredictionUse::kReleased:
+            return "released";
+    }
+    return "?";
+}
+
+EgoVelocityResult EgoVelocityEstimator::EstimateWithin(
+    const RadarScan &scan_radar, const std::optional<VelocityPrediction> &prediction) {
     EgoVelocityResult result;
     internal::Workspace &ws = *workspace_;
     result.labels.assign(scan_radar.size(), PointLabel::kFiltered);
@@ -269,7 +291,20 @@ EgoVelocityResult EgoVelocityEstimator::Estimate(const RadarScan &scan_radar) {
     bool solved = false;
     switch (config_.method) {
         case RobustMethod::kRansac:
-            solved = internal::Ransac(config_, ws, v, result.iterations);
+            solved = internal::Ransac(config_, ws, v, result.iterations, prediction);
+            if (prediction) {
+                const double inliers = solved ? ws.mask.sum() : 0.0;
+                if (inliers >= config_.min_inliers &&
+                    inliers >= config_.min_inlier_ratio * static_cast<double>(n)) {
+                    result.prediction = PredictionUse::kInside;
+                } else {  // nothing inside explains the scan: perhaps the prediction is wrong
+                    result.prediction = PredictionUse::kReleased;
+                    ws.rng.seed(config_.seed);
+                    int more = 0;
+                    solved = internal::Ransac(config_, ws, v, more);
+                    result.iterations += more;
+                }
+            }
             break;
         case RobustMethod::kTrimmedIrls:
             solved = internal::TrimmedIrls(config_, ws, v, result.iterations);

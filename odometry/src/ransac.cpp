@@ -132,7 +132,11 @@ int RequiredIterations(double inlier_ratio, double success_probability) {
 
 }  // namespace
 
-bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, int &iterations) {
+bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, int &iterations,
+            const std::optional<VelocityPrediction> &ball) {
+    const auto outside = [&ball](const Eigen::Vector3d &hypothesis) {
+        return ball && (hypothesis - ball->v_radar_mps).norm() > ball->radius_mps;
+    };
     DopplerSystem &all = ws.system;  // not const: ClassifyInliers unwraps aliased Doppler
     const Eigen::Index n = all.size();
     // Always a shuffled copy, so that its first points are a random sample for the bail-out.
@@ -154,7 +158,9 @@ bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, 
     double best_score = -1.0;
     int best_count = 0;
     Eigen::Vector3d best_v = Eigen::Vector3d::Zero();
-    int needed = config.ransac_min_iterations;
+    // Held in a ball, most samples fall outside it: search until one inside is found (the
+    // stopping rule then applies as usual).
+    int needed = ball ? config.ransac_max_iterations : config.ransac_min_iterations;
     Eigen::Vector3d candidate;
     Eigen::ArrayXi &best_cells = ws.best_cell_inliers;  // the best hypothesis' inliers per cell
     iterations = 0;
@@ -168,6 +174,7 @@ bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, 
         if (!(s.alias_span > 0.0 ? SolveMinimalAliased(s, i, j, k, config.max_speed_mps, candidate)
                                  : SolveMinimal(s, i, j, k, candidate)))
             continue;
+        if (outside(candidate)) continue;
         // Expected inliers among the first `check` points if this hypothesis were as good as the
         // best one, times the bail-out fraction.
         const int min_check = static_cast<int>(config.ransac_bailout_fraction * best_count *
@@ -183,7 +190,7 @@ bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, 
             ClassifyAndAccumulate(s, candidate, scratch.residual, scratch.mask, scratch.weighted,
                                   equations);
             Eigen::Vector3d refit;
-            if (!SolveNormalEquations(equations, refit)) break;
+            if (!SolveNormalEquations(equations, refit) || outside(refit)) break;
             int refit_count = 0;
             const double refit_score = Score(refit, ws, refit_count);
             if (refit_score <= score) break;

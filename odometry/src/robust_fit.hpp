@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -137,7 +138,10 @@ bool FitWithDirectionNoise(const EgoVelocityConfig &config, Workspace &ws, Eigen
 /// RANSAC with 3-point samples, spread-aware MSAC scoring on ws.subset, local refits, then
 /// refit-and-regate on all points. Leaves the inlier mask in ws.mask. False when no
 /// non-degenerate sample was found.
-bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, int &iterations);
+/// With `ball`, hypotheses (and their local refits) outside it are not scored; false when no
+/// hypothesis inside was found.
+bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, int &iterations,
+            const std::optional<VelocityPrediction> &ball = std::nullopt);
 
 /// The paper's reference trimmed IRLS: start from every point, refit on the points its
 /// threshold keeps, until the velocity stops moving. Leaves the inlier mask in ws.mask.

@@ -205,6 +205,39 @@ TEST(EgoVelocity, TrimmedIrlsHandlesFewOutliersButRansacIsNeededForABus) {
     EXPECT_LT((good.v_radar_mps - o.v_radar).norm(), 0.05);
 }
 
+TEST(EgoVelocity, APredictionKeepsACrowdThatOutnumbersTheWorldFromTakingTheScan) {
+    // A crowd moving together over the whole field of view, 60 % of the points: unheld, RANSAC
+    // takes it for the world (the premise, asserted). Held near the previous velocity it finds
+    // the static world; held where nothing is, it is released and answers as unheld.
+    SceneOptions o;
+    o.dynamic_fraction = 0.6;
+    o.coherent_crowd = true;
+    o.crowd_azimuth_deg = 0.0;
+    o.crowd_width_deg = 120.0;
+    o.crowd_velocity = Eigen::Vector3d(1.5, 0.0, 0.0);
+    const SyntheticScan s = MakeScan(o);
+    EgoVelocityEstimator estimator{EgoVelocityConfig{}};
+    const auto unheld = estimator.Estimate(s.scan);
+    ASSERT_TRUE(unheld.valid());
+    ASSERT_GT((unheld.v_radar_mps - o.v_radar).norm(), 1.0) << "the crowd must win unheld";
+    EXPECT_EQ(unheld.prediction, PredictionUse::kNone);
+
+    const auto held = estimator.Estimate(
+        s.scan, VelocityPrediction{o.v_radar + Eigen::Vector3d(0.3, -0.2, 0.1), 1.0});
+    ASSERT_TRUE(held.valid());
+    EXPECT_EQ(held.prediction, PredictionUse::kInside);
+    EXPECT_LT((held.v_radar_mps - o.v_radar).norm(), 0.05);
+    int crowd_as_static = 0;
+    for (std::size_t i = 0; i < s.dynamic.size(); ++i)
+        crowd_as_static += s.dynamic[i] && held.labels[i] == PointLabel::kStatic;
+    EXPECT_LT(crowd_as_static, 20);
+
+    const auto released =
+        estimator.Estimate(s.scan, VelocityPrediction{Eigen::Vector3d(30.0, 0.0, 0.0), 1.0});
+    EXPECT_EQ(released.prediction, PredictionUse::kReleased);
+    EXPECT_LT((released.v_radar_mps - unheld.v_radar_mps).norm(), 1e-9);
+}
+
 TEST(EgoVelocity, IsReproducible) {
     SceneOptions o;
     o.dynamic_fraction = 0.3;

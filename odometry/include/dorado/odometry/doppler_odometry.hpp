@@ -56,6 +56,13 @@ struct DopplerOdometryConfig {
     bool zero_velocity_update = true;
     /// A Doppler-derived |omega| above this is treated like an invalid scan (fallback) [rad/s].
     double max_angular_rate_radps = 2.0;
+    /// The radar's velocity changes by at most this between scans [m/s^2] (a car braking at
+    /// 1 g; the lever arm's share of a turn's angular acceleration included): RANSAC's hypotheses
+    /// are held within (this * dt + 3 sigma of the previous velocity) of the previous scan's
+    /// velocity, so that a crowd moving together cannot take the scan by a jump no vehicle makes
+    /// (EgoVelocityEstimator::Estimate with a VelocityPrediction). Only after a scan with a valid
+    /// velocity; a scan nothing inside explains is estimated without it. 0 = off.
+    double max_acceleration_mps2 = 10.0;
     /// Integrate KinematicModel::PlausibleTwist (eq. 5 combined with the vehicle's angular-rate
     /// prior) instead of eq. (5)'s twist as is. They agree to a few percent where eq. (5) is well
     /// conditioned; near an ICR axis (a side mount) the raw pitch or yaw rate is noise.
@@ -143,6 +150,8 @@ class DopplerOdometry {
     void DecideGeometry(const RadarScan &scan_radar, OdometryStep &step);
     // The planar chain's ego-velocity and motion (planar_ego_velocity.hpp, eq. 5 in the plane).
     void EstimatePlanar(const RadarScan &scan_radar, OdometryStep &step);
+    // The 3-D ego-velocity, held near the previous scan's (max_acceleration_mps2).
+    EgoVelocityResult EstimateVelocity(const RadarScan &scan_radar);
 
     DopplerOdometryConfig config_;
     EgoVelocityEstimator estimator_;
@@ -154,6 +163,8 @@ class DopplerOdometry {
     bool has_last_stamp_ = false;
     bool restarted_ = false;  ///< the next scan integrates nothing
     int64_t last_stamp_ns_ = 0;
+    // The previous scan's radar velocity, when it was valid (the next scan's prediction).
+    std::optional<VelocityPrediction> last_velocity_;
     bool has_last_twist_ = false;
     Eigen::Vector3d last_v_base_ = Eigen::Vector3d::Zero();
     Eigen::Vector3d last_omega_base_ = Eigen::Vector3d::Zero();

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -171,6 +172,24 @@ inline constexpr EgoVelocityFailure kAllEgoVelocityFailures[] = {
 /// "too few points after the pre-filters" for kTooFewPoints.
 [[nodiscard]] const char *ToString(EgoVelocityFailure failure);
 
+/// Where the radar's velocity can be at this scan, from the previous scan's: a ball of radius
+/// radius_mps around v_radar_mps (DopplerOdometry: the previous velocity, grown by the largest
+/// acceleration over the interval and its own 3 sigma).
+struct VelocityPrediction {
+    Eigen::Vector3d v_radar_mps = Eigen::Vector3d::Zero();
+    double radius_mps = 0.0;
+};
+
+/// What a VelocityPrediction did to one scan.
+enum class PredictionUse {
+    kNone,      ///< "none": no prediction was given
+    kInside,    ///< "inside": RANSAC's hypotheses were held inside the ball, and one explained the
+                ///< scan
+    kReleased,  ///< "released": no hypothesis inside explained enough points; estimated without it
+};
+/// "none" | "inside" | "released".
+[[nodiscard]] const char *ToString(PredictionUse use);
+
 struct EgoVelocityResult {
     /// kNone: the velocity is valid. Otherwise the cause, and failure_detail its numbers.
     EgoVelocityFailure failure = EgoVelocityFailure::kNotEstimated;
@@ -190,6 +209,7 @@ struct EgoVelocityResult {
     int unwrapped = 0;
     /// The final fit removed the direction-noise (errors-in-variables) bias.
     bool direction_noise_compensated = false;
+    PredictionUse prediction = PredictionUse::kNone;
 };
 
 /// Why `result` is not valid, in words with its numbers ("too few points after the pre-filters:
@@ -210,10 +230,18 @@ class EgoVelocityEstimator {
     /// Not const: reuses internal buffers so that the RANSAC loop does not allocate. Never throws
     /// on bad data: a scan that cannot be used comes back with its failure cause.
     EgoVelocityResult Estimate(const RadarScan &scan_radar);
+    /// The same, with RANSAC's hypotheses held inside the prediction's ball, so that a crowd
+    /// moving together (more points, or better spread, than the static world) cannot take the
+    /// scan by a jump no vehicle makes. Only kRansac uses it. When no hypothesis inside the ball
+    /// gives min_inliers and min_inlier_ratio, the scan is estimated without it (kReleased): the
+    /// prediction may be the one that is wrong.
+    EgoVelocityResult Estimate(const RadarScan &scan_radar, const VelocityPrediction &prediction);
 
     [[nodiscard]] const EgoVelocityConfig &config() const { return config_; }
 
   private:
+    EgoVelocityResult EstimateWithin(const RadarScan &scan_radar,
+                                     const std::optional<VelocityPrediction> &prediction);
     struct Workspace;
     EgoVelocityConfig config_;
     std::unique_ptr<Workspace> workspace_;

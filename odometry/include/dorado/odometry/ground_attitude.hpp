@@ -17,7 +17,10 @@
 namespace dorado::odometry {
 
 struct GroundAttitudeConfig {
-    bool enabled = false;  ///< false: the odometry integrates the rates alone (the paper)
+    /// true: roll and pitch corrected by the ground where the vehicle's base height is known
+    /// (without it every scan is a kNoBaseHeight fallback and the rates are integrated alone);
+    /// false: the rates alone (the paper).
+    bool enabled = true;
     GroundPlaneConfig plane;
     /// Spread of the road's own slope (roll and pitch) about level [deg], 1 sigma.
     double road_slope_sigma_deg = 4.0;

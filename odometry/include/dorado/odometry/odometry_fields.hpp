@@ -142,6 +142,9 @@ void VisitFields(DopplerOdometryConfig &c, Visitor &&v) {
       "stationary scans integrate a zero twist");
     v("odometry.max_angular_rate_radps", c.max_angular_rate_radps,
       "a faster Doppler twist is a fallback [rad/s]");
+    v("odometry.max_acceleration_mps2", c.max_acceleration_mps2,
+      "RANSAC holds the radar velocity within this * dt (+ 3 sigma) of the previous scan's "
+      "[m/s^2]; 0 = off");
     v("odometry.angular_rate_prior", c.angular_rate_prior,
       "integrate eq. 5's twist combined with the vehicle's angular-rate prior");
     VisitFields(c.ground, Prefixed{"ground.", v});
