@@ -8,6 +8,7 @@
 
 #include "commands.hpp"
 #include "dorado/config/odometry_config.hpp"
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 #include "dorado/core/time.hpp"
 #include "dorado/io/atomic_file.hpp"
@@ -91,7 +92,7 @@ std::string Vec4(double x, double y, double z, double w) {
 // The snippet the dataset description accepts (rotation as roll, pitch, yaw with
 // R = Rz(yaw) Ry(pitch) Rx(roll)).
 void WriteSnippet(const std::string &path, const std::string &comment, const Eigen::Isometry3d &T) {
-    const Eigen::Vector3d rpy = RollPitchYaw(T.linear()) * 180.0 / M_PI;
+    const Eigen::Vector3d rpy = RadToDeg(RollPitchYaw(T.linear()));
     io::WriteFileAtomically(path, [&](std::ostream &os) {
         os << comment << "extrinsics:\n  T_base_radar:\n    translation_m: " << Vec(T.translation())
            << "\n    rotation_rpy_deg: " << Vec(rpy) << "\n";
@@ -155,7 +156,7 @@ void RunDopplerSign(const CalibrateOptions &opt, const io::DatasetConfig &datase
          << "#   best scan time offset " << c.best_time_offset_s << " s: slope "
          << c.at_best_offset.slope << ", residual RMS " << c.at_best_offset.rms_residual_mps
          << " m/s (rest window: gyro RMS " << c.rest_gyro_rms_radps << " rad/s)\n";
-    const Eigen::Vector3d phi_deg = c.rotation_correction_base_rad * 180.0 / M_PI;
+    const Eigen::Vector3d phi_deg = RadToDeg(c.rotation_correction_base_rad);
     text << "#   extrinsics.T_base_radar rotation correction (base frame, applied on the left): "
          << phi_deg.norm() << " deg (rotation vector " << Vec(phi_deg)
          << " deg), residual RMS then " << c.rms_residual_corrected_mps << " m/s\n";
@@ -199,8 +200,7 @@ void RunCalibrate(const CalibrateOptions &opt) {
                            : odometry::CalibrateRoll(samples.v_radar, T.linear());
         T.linear() = c.R_base_radar;
         comment << "# dorado calibrate " << opt.step << ": " << c.samples << " scans, residual RMS "
-                << c.rms_residual_mps << " m/s, angle sigma " << c.sigma_rad * 180 / M_PI
-                << " deg\n";
+                << c.rms_residual_mps << " m/s, angle sigma " << RadToDeg(c.sigma_rad) << " deg\n";
     } else {
         std::vector<Eigen::Vector3d> v_s;
         std::vector<double> yaw;

@@ -9,6 +9,7 @@
 
 #include "commands.hpp"
 #include "dorado/config/odometry_config.hpp"
+#include "dorado/core/angles.hpp"
 #include "dorado/core/time.hpp"
 #include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/io/atomic_file.hpp"
@@ -51,12 +52,11 @@ constexpr const char *kCsvHeader =
 
 // The ground-plane attitude columns (ground.enabled; the reason names a scan without ground).
 void AppendGround(std::ostream &row, const odometry::GroundAttitudeStep &g) {
-    constexpr double kDeg = 180.0 / M_PI;
     const odometry::GroundObservation &o = g.observation;
     row << ',' << (o.valid ? 1 : 0) << ',' << odometry::ToString(o.fallback) << ','
-        << Num(o.roll_pitch_rad.x() * kDeg) << ',' << Num(o.roll_pitch_rad.y() * kDeg) << ','
-        << o.inliers << ',' << Num(g.correction_rad.x() * kDeg) << ','
-        << Num(g.correction_rad.y() * kDeg) << ',' << Num(o.residual_sigma_m) << ','
+        << Num(RadToDeg(o.roll_pitch_rad.x())) << ',' << Num(RadToDeg(o.roll_pitch_rad.y())) << ','
+        << o.inliers << ',' << Num(RadToDeg(g.correction_rad.x())) << ','
+        << Num(RadToDeg(g.correction_rad.y())) << ',' << Num(o.residual_sigma_m) << ','
         << Num(g.innovation_chi2);
 }
 

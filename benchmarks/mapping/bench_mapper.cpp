@@ -66,17 +66,22 @@ void BM_MapperPerScan(benchmark::State &state) {
         for (std::size_t k = 0; k < seq.scans.size(); ++k) {
             MotionPrior prior;
             if (k > 0) {
-                BaseTwist twist;  // Doppler-odometry-like: v noisy, roll rate unobserved
+                Twist twist;  // Doppler-odometry-like: v noisy, roll rate unobserved
                 twist.v_base_mps =
                     seq.truth[k - 1].v_base + 0.03 * Eigen::Vector3d(n(rng), n(rng), n(rng));
                 twist.omega_base_radps =
                     seq.truth[k - 1].omega_base + Eigen::Vector3d(0, 0.02 * n(rng), 0.005 * n(rng));
                 twist.omega_base_radps.x() = 0.0;
-                twist.cov_v_base = Eigen::Matrix3d::Identity() * 9e-4;
-                twist.cov_omega_base = Eigen::Vector3d(0.0, 4e-4, 2.5e-5).asDiagonal();
+                twist.covariance.topLeftCorner<3, 3>() = Eigen::Matrix3d::Identity() * 9e-4;
+                twist.covariance.bottomRightCorner<3, 3>() =
+                    Eigen::Vector3d(0.0, 4e-4, 2.5e-5).asDiagonal();
                 prior = PriorFromDoppler(poses.back(), twist, 0.1, noise);
             }
-            const RegistrationResult r = mapper.Register(seq.scans[k], prior, 0.1, &seq.masks[k]);
+            MapperInput input;
+            input.prior = prior;
+            input.dt_s = 0.1;
+            input.static_mask = seq.masks[k];
+            const RegistrationResult r = mapper.Register(seq.scans[k], input);
             poses.push_back(r.T_world_base);
             last_map_size = mapper.local_map().size();
             source_sum += r.source_points;

@@ -8,9 +8,11 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
 #include "dorado/testing/noisy_direction_scan.hpp"
 
+using dorado::DegToRad;
 using namespace dorado::odometry;
 namespace testing = dorado::testing;
 
@@ -29,7 +31,6 @@ Stats Run(testing::NoisyDirectionOptions o, bool compensate, int trials, double 
     EgoVelocityEstimator estimator(c);
     double sum = 0.0, sum2 = 0.0, crb = 0.0;
     int valid = 0;
-    const double deg = M_PI / 180.0;
     for (int t = 0; t < trials; ++t) {
         o.seed = 5000 + t;
         const auto scene = testing::MakeNoisyDirectionScan(o);
@@ -47,7 +48,7 @@ Stats Run(testing::NoisyDirectionOptions o, bool compensate, int trials, double 
             const double cos_el = std::hypot(d.x(), d.y());
             const Eigen::Vector3d e_el(-d.z() * d.x() / cos_el, -d.z() * d.y() / cos_el, cos_el);
             const Eigen::Vector3d e_az(-d.y() / cos_el, d.x() / cos_el, 0.0);
-            const double se = o.elevation_sigma_deg * deg, sa = o.azimuth_sigma_deg * deg;
+            const double se = DegToRad(o.elevation_sigma_deg), sa = DegToRad(o.azimuth_sigma_deg);
             sigma[i] = std::sqrt(o.doppler_sigma_mps * o.doppler_sigma_mps +
                                  std::pow(se * e_el.dot(o.v_radar), 2) +
                                  std::pow(sa * cos_el * e_az.dot(o.v_radar), 2));

@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
+#include "built_prior.hpp"
 #include "dorado/core/lie.hpp"
 #include "dorado/core/time.hpp"
 #include "dorado/mapping/measurements.hpp"
@@ -24,17 +26,17 @@ struct KeptScan {
     mapping::PointMask static_mask, moving_mask;
 };
 
-// The filter's twist as the priors' BaseTwist. The plane's other three (v_z, roll and pitch
-// rates) are held by the planar mapper: small spreads keep the prior positive definite.
-mapping::BaseTwist PriorTwistOf(const Eigen::Vector3d &twist, const Eigen::Matrix3d &P,
-                                const VehicleVelocityPrior &velocity_prior) {
-    mapping::BaseTwist out;
+// The filter's twist as the priors' Twist (the v-omega cross-covariance is not used). The plane's
+// other three (v_z, roll and pitch rates) are held by the planar mapper: small spreads keep the
+// prior positive definite.
+Twist PriorTwistOf(const Eigen::Vector3d &twist, const Eigen::Matrix3d &P,
+                   const VehicleVelocityPrior &velocity_prior) {
+    Twist out;
     out.v_base_mps << twist(0), twist(1), 0.0;
     out.omega_base_radps << 0.0, 0.0, twist(2);
-    out.cov_v_base.setZero();
-    out.cov_v_base.topLeftCorner<2, 2>() = P.topLeftCorner<2, 2>();
-    out.cov_v_base(2, 2) = velocity_prior.sigma_vertical_mps * velocity_prior.sigma_vertical_mps;
-    out.cov_omega_base = Eigen::Vector3d(1e-4, 1e-4, P(2, 2)).asDiagonal();
+    out.covariance.topLeftCorner<2, 2>() = P.topLeftCorner<2, 2>();
+    out.covariance(2, 2) = velocity_prior.sigma_vertical_mps * velocity_prior.sigma_vertical_mps;
+    out.covariance.bottomRightCorner<3, 3>() = Eigen::Vector3d(1e-4, 1e-4, P(2, 2)).asDiagonal();
     return out;
 }
 
@@ -62,8 +64,7 @@ struct MultiRadarFrontEnd::State {
     void Keep(std::size_t radar, const RadarScan &scan, const odometry::EgoVelocityResult &ego);
     [[nodiscard]] RadarScan MergedCloud(int64_t stamp_ns, mapping::PointMask &static_mask,
                                         mapping::PointMask &moving_mask) const;
-    [[nodiscard]] mapping::MotionPrior BuildPrior(int64_t stamp_ns, double dt_s,
-                                                  FrontEndResult &result) const;
+    [[nodiscard]] BuiltPrior BuildPrior(int64_t stamp_ns, double dt_s) const;
     FrontEndResult CloseSweep(int64_t stamp_ns);
 
     FrontEndConfig config;
@@ -80,9 +81,10 @@ struct MultiRadarFrontEnd::State {
     int sweeps = 0;
     int64_t last_sweep_ns = 0;
     double last_dt_s = 0.0;
-    Eigen::Isometry3d T_prev = Eigen::Isometry3d::Identity(), T_prev2 = T_prev;
-    Eigen::Isometry3d T_odometry = Eigen::Isometry3d::Identity();
-    std::optional<mapping::BaseTwist> last_twist;
+    Eigen::Isometry3d T_world_base_prev = Eigen::Isometry3d::Identity(),
+                      T_world_base_prev2 = T_world_base_prev;
+    Eigen::Isometry3d T_world_base_odometry = Eigen::Isometry3d::Identity();
+    std::optional<Twist> last_twist;
 };
 
 // The scan's finite points and their labels: the radar's own mask when its ego-velocity is
@@ -157,42 +159,41 @@ RadarScan MultiRadarFrontEnd::State::MergedCloud(int64_t stamp_ns, mapping::Poin
     return merged;
 }
 
-mapping::MotionPrior MultiRadarFrontEnd::State::BuildPrior(int64_t stamp_ns, double dt_s,
-                                                           FrontEndResult &result) const {
+BuiltPrior MultiRadarFrontEnd::State::BuildPrior(int64_t stamp_ns, double dt_s) const {
     using mapping::PriorKind;
     const PriorKind kind = config.prior;
-    result.prior_requested = kind;
-    result.prior_used = kind;
+    BuiltPrior out;
+    out.requested = kind;
+    out.used = kind;
     if (sweeps == 0) {  // the first sweep defines the world
-        mapping::MotionPrior prior;
-        prior.covariance = Matrix6d::Identity() * 1e-6;
-        prior.kind = kind;
-        result.prior_first_scan = true;
-        return prior;
+        out.prior.covariance = Matrix6d::Identity() * 1e-6;
+        out.prior.kind = kind;
+        out.first_scan = true;
+        return out;
     }
     const mapping::PriorNoiseConfig &noise = config.prior_noise;
     const bool has_two = sweeps >= 2 && last_dt_s > 0.0;
     std::optional<mapping::MotionPrior> built;
     PriorSubstitution why_not = PriorSubstitution::kNone;
-    const mapping::BaseTwist now =
-        PriorTwistOf(filter.twist(), filter.covariance(), geometry.velocity_prior);
-    const mapping::BaseTwist interval =
-        (noise.doppler_integration == mapping::TwistIntegration::kTrapezoid && last_twist &&
-         dt_s <= 1.5 * last_dt_s)
-            ? mapping::TrapezoidTwist(*last_twist, now)
-            : now;
+    const Twist now = PriorTwistOf(filter.twist(), filter.covariance(), geometry.velocity_prior);
+    const Twist interval = (noise.doppler_integration == mapping::TwistIntegration::kTrapezoid &&
+                            last_twist && dt_s <= 1.5 * last_dt_s)
+                               ? mapping::TrapezoidTwist(*last_twist, now)
+                               : now;
     const std::vector<ImuSample> samples = imu.samples();
     switch (kind) {
         case PriorKind::kNone:
-            built = mapping::PriorFromPreviousPose(T_prev, noise);
+            built = mapping::PriorFromPreviousPose(T_world_base_prev, noise);
             break;
         case PriorKind::kConstVel:
             break;  // below
         case PriorKind::kImu: {
             std::optional<Eigen::Vector3d> v_world;  // unknown from one pose
-            if (has_two) v_world = (T_prev.translation() - T_prev2.translation()) / last_dt_s;
-            built = mapping::PriorFromImu(T_prev, v_world, samples, last_sweep_ns, stamp_ns,
-                                          T_base_imu, noise);
+            if (has_two)
+                v_world = (T_world_base_prev.translation() - T_world_base_prev2.translation()) /
+                          last_dt_s;
+            built = mapping::PriorFromImu(T_world_base_prev, v_world, samples, last_sweep_ns,
+                                          stamp_ns, T_base_imu, noise);
             if (!built) why_not = PriorSubstitution::kNoImuSamples;
             break;
         }
@@ -201,29 +202,32 @@ mapping::MotionPrior MultiRadarFrontEnd::State::BuildPrior(int64_t stamp_ns, dou
             if (!twist_measured_in_sweep) {
                 why_not = PriorSubstitution::kInvalidDopplerVelocity;
             } else if (kind == PriorKind::kDoppler) {
-                built = mapping::PriorFromDoppler(T_prev, interval, dt_s, noise);
+                built = mapping::PriorFromDoppler(T_world_base_prev, interval, dt_s, noise);
             } else {
-                built =
-                    mapping::PriorFromImuAndDoppler(T_prev, interval, samples, last_sweep_ns + 1,
-                                                    stamp_ns, T_base_imu, dt_s, noise);
+                built = mapping::PriorFromImuAndDoppler(T_world_base_prev, interval, samples,
+                                                        last_sweep_ns + 1, stamp_ns, T_base_imu,
+                                                        dt_s, noise);
                 if (!built) why_not = PriorSubstitution::kNoImuSamples;
             }
             if (built && noise.doppler_with_constvel && has_two && dt_s <= 1.5 * last_dt_s)
-                built = mapping::FusePriors(*built, mapping::PriorConstantVelocity(
-                                                        T_prev2, T_prev, last_dt_s, dt_s, noise));
+                built = mapping::FusePriors(
+                    *built, mapping::PriorConstantVelocity(T_world_base_prev2, T_world_base_prev,
+                                                           last_dt_s, dt_s, noise));
             break;
     }
     if (!built) {
         if (kind != PriorKind::kConstVel) {
-            result.prior_used = PriorKind::kConstVel;
-            result.prior_substitution = why_not;
+            out.used = PriorKind::kConstVel;
+            out.substitution = why_not;
             if (why_not == PriorSubstitution::kInvalidDopplerVelocity)
-                result.prior_substitution_detail = "no radar's ego-velocity updated the twist";
+                out.substitution_detail = "no radar's ego-velocity updated the twist";
         }
-        built = has_two ? mapping::PriorConstantVelocity(T_prev2, T_prev, last_dt_s, dt_s, noise)
-                        : mapping::PriorFromPreviousPose(T_prev, noise);
+        built = has_two ? mapping::PriorConstantVelocity(T_world_base_prev2, T_world_base_prev,
+                                                         last_dt_s, dt_s, noise)
+                        : mapping::PriorFromPreviousPose(T_world_base_prev, noise);
     }
-    return *built;
+    out.prior = *built;
+    return out;
 }
 
 FrontEndResult MultiRadarFrontEnd::State::CloseSweep(int64_t stamp_ns) {
@@ -233,18 +237,20 @@ FrontEndResult MultiRadarFrontEnd::State::CloseSweep(int64_t stamp_ns) {
     result.accepted = true;
     result.dt_s = sweeps == 0 ? 0.0 : NanosToSeconds(stamp_ns - last_sweep_ns);
     const double dt_s = sweeps == 0 ? mapping::kFirstScanIntervalS : result.dt_s;
-    const mapping::BaseTwist now =
-        PriorTwistOf(filter.twist(), filter.covariance(), geometry.velocity_prior);
-    result.twist_base.v_base_mps = now.v_base_mps;
-    result.twist_base.omega_base_radps = now.omega_base_radps;
-    result.twist_base.covariance.setZero();
-    result.twist_base.covariance.topLeftCorner<3, 3>() = now.cov_v_base;
-    result.twist_base.covariance.bottomRightCorner<3, 3>() = now.cov_omega_base;
-    if (sweeps > 0) T_odometry = T_odometry * ExpSE3(filter.MotionOver(result.dt_s));
-    result.T_world_base_odometry = T_odometry;
+    const Twist now = PriorTwistOf(filter.twist(), filter.covariance(), geometry.velocity_prior);
+    result.twist_base = now;
+    if (sweeps > 0)
+        T_world_base_odometry = T_world_base_odometry * ExpSE3(filter.MotionOver(result.dt_s));
+    result.T_world_base_odometry = T_world_base_odometry;
 
     const auto t_prior = Clock::now();
-    result.prior = BuildPrior(stamp_ns, dt_s, result);
+    BuiltPrior built = BuildPrior(stamp_ns, dt_s);
+    result.prior = built.prior;
+    result.prior_requested = built.requested;
+    result.prior_used = built.used;
+    result.prior_first_scan = built.first_scan;
+    result.prior_substitution = built.substitution;
+    result.prior_substitution_detail = std::move(built.substitution_detail);
     result.times.prior_ms = MillisecondsSince(t_prior);
     mapping::MapperInput input;
     input.prior = result.prior;
@@ -262,8 +268,8 @@ FrontEndResult MultiRadarFrontEnd::State::CloseSweep(int64_t stamp_ns) {
     result.times.total_ms = MillisecondsSince(t_start);
 
     trajectory.Append(stamp_ns, result.T_world_base);
-    T_prev2 = T_prev;
-    T_prev = result.T_world_base;
+    T_world_base_prev2 = T_world_base_prev;
+    T_world_base_prev = result.T_world_base;
     last_dt_s = result.dt_s;
     if (twist_measured_in_sweep)
         last_twist = now;

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 
 namespace dorado::io {
@@ -103,7 +104,7 @@ Eigen::Isometry3d ReadTransform(YamlSection &section) {
     if (has_rpy) {
         Eigen::Vector3d rpy = Eigen::Vector3d::Zero();
         section.ReadVector3("rotation_rpy_deg", rpy);
-        T.linear() = RotationFromRollPitchYaw(rpy * M_PI / 180.0);
+        T.linear() = RotationFromRollPitchYaw(DegToRad(rpy));
     }
     if (has_q) {
         const auto q = section.Get<std::vector<double>>("quaternion_xyzw", {});

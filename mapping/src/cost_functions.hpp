@@ -239,8 +239,7 @@ class DopplerError : public ceres::SizedCostFunction<1, 3, 4> {
 //   r = L^-1 e,  with C = L L^T the prior covariance (its Cholesky factor): r^T r = e^T C^-1 e.
 class PriorError {
   public:
-    PriorError(const Eigen::Isometry3d &T_world_base_prior,
-               const Eigen::Matrix<double, 6, 6> &sqrt_information)
+    PriorError(const Eigen::Isometry3d &T_world_base_prior, const Matrix6d &sqrt_information)
         : q_prior_(T_world_base_prior.linear()),
           t_prior_(T_world_base_prior.translation()),
           sqrt_information_(sqrt_information) {}
@@ -259,7 +258,7 @@ class PriorError {
     }
 
     static ceres::CostFunction *Create(const Eigen::Isometry3d &T_world_base_prior,
-                                       const Eigen::Matrix<double, 6, 6> &sqrt_information) {
+                                       const Matrix6d &sqrt_information) {
         return new ceres::AutoDiffCostFunction<PriorError, 6, 3, 4>(
             new PriorError(T_world_base_prior, sqrt_information));
     }
@@ -267,7 +266,7 @@ class PriorError {
   private:
     Eigen::Quaterniond q_prior_;
     Eigen::Vector3d t_prior_;
-    Eigen::Matrix<double, 6, 6> sqrt_information_;
+    Matrix6d sqrt_information_;
 };
 
 }  // namespace dorado::mapping

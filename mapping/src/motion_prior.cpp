@@ -42,11 +42,10 @@ const char *ToString(TwistIntegration integration) {
     return "?";
 }
 
-BaseTwist TrapezoidTwist(const BaseTwist &at_start, const BaseTwist &at_end) {
+Twist TrapezoidTwist(const Twist &at_start, const Twist &at_end) {
     return {0.5 * (at_start.v_base_mps + at_end.v_base_mps),
             0.5 * (at_start.omega_base_radps + at_end.omega_base_radps),
-            0.5 * (at_start.cov_v_base + at_end.cov_v_base),
-            0.5 * (at_start.cov_omega_base + at_end.cov_omega_base)};
+            0.5 * (at_start.covariance + at_end.covariance)};
 }
 
 namespace {
@@ -166,16 +165,18 @@ std::optional<MotionPrior> PriorFromImu(const Eigen::Isometry3d &T_world_base_pr
     return MotionPrior{T, BlockDiagonal(Isotropic(sigma_t), Isotropic(sigma_r)), PriorKind::kImu};
 }
 
-MotionPrior PriorFromDoppler(const Eigen::Isometry3d &T_world_base_prev, const BaseTwist &twist,
+MotionPrior PriorFromDoppler(const Eigen::Isometry3d &T_world_base_prev, const Twist &twist,
                              double dt_s, const PriorNoiseConfig &noise) {
     RequirePositiveInterval(dt_s, "doppler prior");
     Vector6d xi;
     xi << twist.v_base_mps * dt_s, twist.omega_base_radps * dt_s;
-    const Eigen::Matrix3d cov_v = twist.cov_v_base + Isotropic(noise.doppler_min_sigma_v_mps);
+    const Eigen::Matrix3d cov_v =
+        twist.covariance.topLeftCorner<3, 3>() + Isotropic(noise.doppler_min_sigma_v_mps);
     const Eigen::Matrix3d cov_omega =
-        twist.cov_omega_base + Eigen::Vector3d(noise.doppler_min_sigma_omega_radps.array().square())
-                                   .asDiagonal()
-                                   .toDenseMatrix();
+        twist.covariance.bottomRightCorner<3, 3>() +
+        Eigen::Vector3d(noise.doppler_min_sigma_omega_radps.array().square())
+            .asDiagonal()
+            .toDenseMatrix();
     // The right Jacobian of ExpSE3 at xi is ~identity for one radar interval; it is neglected.
     return {T_world_base_prev * ExpSE3(xi), BlockDiagonal(cov_v, cov_omega) * (dt_s * dt_s),
             PriorKind::kDoppler};
@@ -192,7 +193,7 @@ MotionPrior FusePriors(const MotionPrior &a, const MotionPrior &b) {
 }
 
 std::optional<MotionPrior> PriorFromImuAndDoppler(const Eigen::Isometry3d &T_world_base_prev,
-                                                  const BaseTwist &twist,
+                                                  const Twist &twist,
                                                   const std::vector<ImuSample> &samples,
                                                   int64_t t0_ns, int64_t t1_ns,
                                                   const Eigen::Isometry3d &T_base_imu, double dt_s,
@@ -200,11 +201,12 @@ std::optional<MotionPrior> PriorFromImuAndDoppler(const Eigen::Isometry3d &T_wor
     RequirePositiveInterval(dt_s, "imu+doppler prior");
     const Eigen::Vector3d omega_imu = MeanAngularVelocity(samples, t0_ns, t1_ns);
     if (!omega_imu.allFinite()) return std::nullopt;
-    BaseTwist mixed = twist;
+    Twist mixed = twist;
     mixed.omega_base_radps = T_base_imu.linear() * omega_imu;
     Vector6d xi;
     xi << mixed.v_base_mps * dt_s, mixed.omega_base_radps * dt_s;
-    const Eigen::Matrix3d cov_v = twist.cov_v_base + Isotropic(noise.doppler_min_sigma_v_mps);
+    const Eigen::Matrix3d cov_v =
+        twist.covariance.topLeftCorner<3, 3>() + Isotropic(noise.doppler_min_sigma_v_mps);
     return MotionPrior{T_world_base_prev * ExpSE3(xi),
                        BlockDiagonal(cov_v, Isotropic(noise.imu_gyro_sigma_radps)) * (dt_s * dt_s),
                        PriorKind::kImuDoppler};

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "dorado/core/lie.hpp"
+#include "dorado/core/time.hpp"
 #include "local_map_impl.hpp"
 #include "robust_loss.hpp"
 
@@ -34,10 +35,6 @@ Eigen::Vector3d PlanarMinus(const Eigen::Isometry3d &T_a, const Eigen::Isometry3
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double MillisecondsSince(Clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 Eigen::Matrix3d PlanarBlock(const Matrix6d &C) {
     Eigen::Matrix3d out;
@@ -69,19 +66,23 @@ struct Match {
     Eigen::Vector3d q_world;
 };
 
-// The nearest map point within the threshold of every source point at T.
-std::vector<Match> FindMatches(const Eigen::Matrix3Xd &source_base, const Eigen::Isometry3d &T,
-                               const LocalMap::Impl &map, double threshold_m, double &sum_sq) {
+struct Matches {
     std::vector<Match> matches;
-    matches.reserve(static_cast<std::size_t>(source_base.cols()));
-    sum_sq = 0.0;
+    double sum_sq = 0.0;  ///< of the matched distances [m^2]
+};
+
+// The nearest map point within the threshold of every source point at T_world_base.
+Matches FindMatches(const Eigen::Matrix3Xd &source_base, const Eigen::Isometry3d &T_world_base,
+                    const LocalMap::Impl &map, double threshold_m) {
+    Matches out;
+    out.matches.reserve(static_cast<std::size_t>(source_base.cols()));
     for (Eigen::Index i = 0; i < source_base.cols(); ++i) {
-        const LocalMap::Neighbour nn = map.Nearest(T * source_base.col(i), threshold_m);
+        const LocalMap::Neighbour nn = map.Nearest(T_world_base * source_base.col(i), threshold_m);
         if (nn.index < 0) continue;
-        matches.push_back({source_base.col(i), map.points_world[nn.index]});
-        sum_sq += nn.distance_squared;
+        out.matches.push_back({source_base.col(i), map.points_world[nn.index]});
+        out.sum_sq += nn.distance_squared;
     }
-    return matches;
+    return out;
 }
 
 // One match's residual (world x, y) at T and its Jacobian in d = (rho_x, rho_y, phi_z):
@@ -97,8 +98,7 @@ void ResidualAndJacobian(const Match &m, const Eigen::Isometry3d &T, Eigen::Vect
 
 // One match's whitened squared residual s, the kernel's IRLS weight rho'(s), r and J at T.
 double RobustWeight(const Match &m, const Eigen::Isometry3d &T, const ceres::LossFunction *loss,
-                    double inv_var, Eigen::Vector2d &r, Eigen::Matrix<double, 2, 3> &J,
-                    double &s) {
+                    double inv_var, Eigen::Vector2d &r, Eigen::Matrix<double, 2, 3> &J, double &s) {
     ResidualAndJacobian(m, T, r, J);
     s = r.squaredNorm() * inv_var;
     double rho[3] = {s, 1.0, 0.0};
@@ -132,18 +132,25 @@ Normal Accumulate(const std::vector<Match> &matches, const Eigen::Isometry3d &T,
     return n;
 }
 
-// Gauss-Newton from T over the registration residuals (re-associated each iteration) and, when
-// given, a Gaussian prior in the plane. False when a step had fewer than 3 matches or was not
-// finite.
-bool Solve(const Eigen::Matrix3Xd &source_base, const LocalMap::Impl &map, double threshold_m,
-           const ceres::LossFunction *loss, const MapperConfig &config, int iterations,
-           const MotionPrior *prior, Eigen::Isometry3d &T) {
+// Where Solve ended: its last pose, and whether it converged there.
+struct Solved {
+    Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
+    bool converged = false;
+};
+
+// Gauss-Newton from T_world_base_initial over the registration residuals (re-associated each
+// iteration) and, when given, a Gaussian prior in the plane. Not converged when a step had fewer
+// than 3 matches or was not finite (the pose then stays at the last good step).
+Solved Solve(const Eigen::Matrix3Xd &source_base, const LocalMap::Impl &map, double threshold_m,
+             const ceres::LossFunction *loss, const MapperConfig &config, int iterations,
+             const MotionPrior *prior, const Eigen::Isometry3d &T_world_base_initial) {
     const Eigen::Matrix3d prior_information =
         prior != nullptr ? Inverse(PlanarBlock(prior->covariance)) : Eigen::Matrix3d::Zero();
+    Solved out{T_world_base_initial, false};
+    Eigen::Isometry3d &T = out.T_world_base;
     for (int it = 0; it < iterations; ++it) {
-        double sum_sq = 0.0;
-        const std::vector<Match> matches = FindMatches(source_base, T, map, threshold_m, sum_sq);
-        if (matches.size() < 3) return false;
+        const std::vector<Match> matches = FindMatches(source_base, T, map, threshold_m).matches;
+        if (matches.size() < 3) return out;
         Normal n = Accumulate(matches, T, loss, config.point_sigma_m);
         if (prior != nullptr) {
             // e = PlanarMinus(prior, T Exp(d)) ~ e0 + d (first order in the plane).
@@ -152,11 +159,12 @@ bool Solve(const Eigen::Matrix3Xd &source_base, const LocalMap::Impl &map, doubl
             n.g += prior_information * e0;
         }
         const Eigen::Vector3d d = -n.H.ldlt().solve(n.g);
-        if (!d.allFinite()) return false;
+        if (!d.allFinite()) return out;
         T = PlanarPlus(T, d);
         if (d.head<2>().norm() < 1e-4 && std::abs(d(2)) < 1e-6) break;
     }
-    return T.matrix().allFinite();
+    out.converged = T.matrix().allFinite();
+    return out;
 }
 
 // lambda_min / lambda_max of the matched points' 2-D scatter (world frame).
@@ -175,20 +183,26 @@ double Observability(const std::vector<Match> &matches) {
     return lambda(1) > 0.0 ? std::max(0.0, lambda(0)) / lambda(1) : 0.0;
 }
 
+// The registration's covariance in the plane, with the numbers behind it.
+struct PlanarCovariance {
+    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();  ///< of (rho_x, rho_y, phi_z)
+    double residual_scale = 0.0;                  ///< whitened residual RMS
+    int clusters = 0;                             ///< clustered model: groups of residuals
+};
+
 // The registration's covariance in the plane at T, by the configured model, plus its floor:
 // independent (H^-1), residual_scale (H^-1 times the whitened residuals' variance) or clustered
 // (H^-1 (sum_c g_c g_c^T) H^-1, the residuals grouped by the map cell of registration_cluster_m
 // they fall in, with the small-sample factor C / (C - 1)).
-Eigen::Matrix3d RegistrationCovariancePlanar(const std::vector<Match> &matches,
-                                             const Eigen::Isometry3d &T,
-                                             const ceres::LossFunction *loss,
-                                             const MapperConfig &config, double &residual_scale,
-                                             int &clusters) {
+PlanarCovariance RegistrationCovariancePlanar(const std::vector<Match> &matches,
+                                              const Eigen::Isometry3d &T,
+                                              const ceres::LossFunction *loss,
+                                              const MapperConfig &config) {
     const double inv_var = 1.0 / (config.point_sigma_m * config.point_sigma_m);
     const Normal n = Accumulate(matches, T, loss, config.point_sigma_m);
     const Eigen::Matrix3d H_inv = Inverse(n.H);
-    residual_scale = n.weights > 0.0 ? std::sqrt(n.weighted_sq / n.weights) : 0.0;
-    clusters = 0;
+    const double residual_scale = n.weights > 0.0 ? std::sqrt(n.weighted_sq / n.weights) : 0.0;
+    int clusters = 0;
     Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
     switch (config.registration_covariance) {
         case RegistrationCovarianceModel::kIndependent:
@@ -221,38 +235,39 @@ Eigen::Matrix3d RegistrationCovariancePlanar(const std::vector<Match> &matches,
     const double ft = config.registration_floor_sigma_translation_m;
     const double fr = config.registration_floor_sigma_rotation_rad;
     C += Eigen::Vector3d(ft * ft, ft * ft, fr * fr).asDiagonal();
-    return 0.5 * (C + C.transpose());
+    return {0.5 * (C + C.transpose()), residual_scale, clusters};
 }
 
 }  // namespace
 
-PlanarRegistration RegisterPlanar(const Eigen::Matrix3Xd &source_base,
-                                  const MotionPrior &prior_map, const MotionPrior &prior,
-                                  const LocalMap &local_map, const MapperConfig &config,
-                                  double threshold_m) {
+PlanarRegistration RegisterPlanar(const Eigen::Matrix3Xd &source_base, const MotionPrior &prior_map,
+                                  const MotionPrior &prior, const LocalMap &local_map,
+                                  const MapperConfig &config, double threshold_m) {
     PlanarRegistration out;
     const LocalMap::Impl &map = local_map.impl();
     const auto loss = MakeLoss(config.kernel, config.kernel_scale);
     const auto t_align = Clock::now();
 
     // 1. Alignment from the prior: the registration alone (the 3-D path's PCL ICP).
-    Eigen::Isometry3d T_aligned = prior_map.T_world_base;
-    const bool converged = Solve(source_base, map, threshold_m, loss.get(), config,
-                                 config.max_iterations, nullptr, T_aligned);
+    const Solved aligned = Solve(source_base, map, threshold_m, loss.get(), config,
+                                 config.max_iterations, nullptr, prior_map.T_world_base);
+    const bool converged = aligned.converged;
+    const Eigen::Isometry3d &T_world_base_aligned = aligned.T_world_base;
     out.alignment_ms = MillisecondsSince(t_align);
-    double sum_sq = 0.0;
-    const std::vector<Match> matches =
-        converged ? FindMatches(source_base, T_aligned, map, threshold_m, sum_sq)
-                  : std::vector<Match>{};
+    const Matches found =
+        converged ? FindMatches(source_base, T_world_base_aligned, map, threshold_m) : Matches{};
+    const std::vector<Match> &matches = found.matches;
     out.count = static_cast<int>(matches.size());
-    out.rms_m = matches.empty() ? 0.0 : std::sqrt(sum_sq / static_cast<double>(matches.size()));
+    out.rms_m =
+        matches.empty() ? 0.0 : std::sqrt(found.sum_sq / static_cast<double>(matches.size()));
     out.observability = Observability(matches);
     // The jump test: the prior widened by the registration's own noise, in the plane.
     const double st = config.registration_sigma_translation_m;
     const double sr = config.registration_sigma_rotation_rad;
-    const Eigen::Matrix3d widened = PlanarBlock(prior_map.covariance) +
-                                    Eigen::Vector3d(st * st, st * st, sr * sr).asDiagonal().toDenseMatrix();
-    const Eigen::Vector3d jump = PlanarMinus(prior_map.T_world_base, T_aligned);
+    const Eigen::Matrix3d widened =
+        PlanarBlock(prior_map.covariance) +
+        Eigen::Vector3d(st * st, st * st, sr * sr).asDiagonal().toDenseMatrix();
+    const Eigen::Vector3d jump = PlanarMinus(prior_map.T_world_base, T_world_base_aligned);
     out.prior_mahalanobis_squared = jump.dot(Inverse(widened) * jump);
     out.registration_ms = MillisecondsSince(t_align);
 
@@ -275,33 +290,37 @@ PlanarRegistration RegisterPlanar(const Eigen::Matrix3Xd &source_base,
 
     const auto t_refine = Clock::now();
     // 2. The registered pose (the map's chain): registration + the map chain's prior.
-    Eigen::Isometry3d T_map = T_aligned;
+    Eigen::Isometry3d T_map_base = T_world_base_aligned;
     const bool ceres = config.refinement != Refinement::kNone;
-    if (ceres && !Solve(source_base, map, threshold_m, loss.get(), config,
-                        config.refine_max_iterations, &prior_map, T_map))
-        T_map = T_aligned;
-    double rms = 0.0;
+    if (ceres) {
+        const Solved refined = Solve(source_base, map, threshold_m, loss.get(), config,
+                                     config.refine_max_iterations, &prior_map, T_map_base);
+        if (refined.converged) T_map_base = refined.T_world_base;
+    }
     const std::vector<Match> final_matches =
-        FindMatches(source_base, T_map, map, threshold_m, rms);
+        FindMatches(source_base, T_map_base, map, threshold_m).matches;
+    const PlanarCovariance registration =
+        RegistrationCovariancePlanar(final_matches, T_map_base, loss.get(), config);
+    const Eigen::Matrix3d &C_reg = registration.C;
     RegisteredPose &registered = out.registered;
-    const Eigen::Matrix3d C_reg = RegistrationCovariancePlanar(
-        final_matches, T_map, loss.get(), config, registered.residual_scale, registered.clusters);
+    registered.residual_scale = registration.residual_scale;
+    registered.clusters = registration.clusters;
     registered.valid = final_matches.size() >= 3 && C_reg.allFinite();
-    registered.T_world_base = T_map;
+    registered.T_world_base = T_map_base;
     registered.covariance = WithPlanarBlock(prior_map.covariance, C_reg);
     registered.information = WithPlanarBlock(Matrix6d::Zero(), Inverse(C_reg));
-    out.T_map = T_map;
+    out.T_map_base = T_map_base;
 
     // 3. The output: its prior fused with the registered pose by their informations (refinement
     //    none: the registered pose itself).
     if (!ceres || !registered.valid) {
-        out.T_world_base = T_map;
+        out.T_world_base = T_map_base;
         out.covariance = registered.covariance;
     } else {
         const Eigen::Matrix3d I_prior = Inverse(PlanarBlock(prior.covariance));
         const Eigen::Matrix3d I_reg = Inverse(C_reg);
         const Eigen::Matrix3d C = Inverse(I_prior + I_reg);
-        const Eigen::Vector3d d = C * (I_reg * PlanarMinus(prior.T_world_base, T_map));
+        const Eigen::Vector3d d = C * (I_reg * PlanarMinus(prior.T_world_base, T_map_base));
         out.T_world_base = PlanarPlus(prior.T_world_base, d);
         out.covariance = WithPlanarBlock(prior.covariance, C);
     }

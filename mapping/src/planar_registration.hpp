@@ -36,7 +36,7 @@ struct PlanarRegistration {
     /// lambda_min / lambda_max of the matched points' 2-D scatter (0: all on one line).
     double observability = 0.0;
     double prior_mahalanobis_squared = 0.0;  ///< of the aligned pose, in the plane
-    Eigen::Isometry3d T_map = Eigen::Isometry3d::Identity();         ///< registered (map chain)
+    Eigen::Isometry3d T_map_base = Eigen::Isometry3d::Identity();    ///< registered (map chain)
     Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();  ///< the output
     Matrix6d covariance = Matrix6d::Zero();  ///< of the output; held axes: the prior's
     RegisteredPose registered;

@@ -48,10 +48,16 @@ int64_t ClusterKey(const Eigen::Vector3d &q_world, double cell_m) {
 // The projector onto the directions the per-point information H observes: in each of its
 // translation and rotation blocks (metres and radians do not compare), the eigenvectors whose
 // eigenvalue is at least ratio times the block's largest (Zhang et al. ICRA 2016; X-ICP analyses
-// the two blocks apart too). Counts the weak ones.
-Matrix6d StrongProjector(const Matrix6d &H, double ratio, int &weak) {
-    Matrix6d Q = Matrix6d::Zero();
-    weak = 0;
+// the two blocks apart too), and how many are weak.
+struct StrongDirections {
+    Matrix6d projector = Matrix6d::Zero();
+    int weak = 0;
+};
+
+StrongDirections StrongProjector(const Matrix6d &H, double ratio) {
+    StrongDirections out;
+    Matrix6d &Q = out.projector;
+    int &weak = out.weak;
     for (int block = 0; block < 6; block += 3) {
         const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(H.block<3, 3>(block, block));
         const double largest = eig.eigenvalues()(2);
@@ -64,7 +70,7 @@ Matrix6d StrongProjector(const Matrix6d &H, double ratio, int &weak) {
             Q.block<3, 3>(block, block) += u * u.transpose();
         }
     }
-    return Q;
+    return out;
 }
 
 Matrix6d FloorCovariance(const MapperConfig &config) {
@@ -177,8 +183,9 @@ RegisteredPose RegistrationCovariance(const Eigen::Isometry3d &T_world_base,
     out.covariance = model + FloorCovariance(config);
     out.information = CovarianceFromInformation(out.covariance);
     if (config.registration_weak_ratio > 0.0) {
-        out.strong_projector =
-            StrongProjector(H, config.registration_weak_ratio, out.weak_directions);
+        const StrongDirections strong = StrongProjector(H, config.registration_weak_ratio);
+        out.strong_projector = strong.projector;
+        out.weak_directions = strong.weak;
         if (out.weak_directions > 0) {
             out.information = out.strong_projector * out.information * out.strong_projector;
             out.information = 0.5 * (out.information + out.information.transpose());

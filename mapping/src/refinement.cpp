@@ -31,8 +31,14 @@ struct PoseBlocks {
     [[nodiscard]] bool Finite() const { return t.allFinite() && q.coeffs().allFinite(); }
 };
 
-// Solves a one-pose problem; true when Ceres' solution is usable.
-bool Solve(ceres::Problem &problem, PoseBlocks &pose, const MapperConfig &config, int &iterations) {
+// Solves a one-pose problem (pose: its parameter blocks, moved to the solution); the iterations it
+// took, usable when Ceres' solution is.
+struct Solved {
+    bool usable = false;
+    int iterations = 0;
+};
+
+Solved Solve(ceres::Problem &problem, PoseBlocks &pose, const MapperConfig &config) {
     problem.SetManifold(pose.q.coeffs().data(), new ceres::EigenQuaternionManifold);
     ceres::Solver::Options options;
     options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;  // 6 unknowns: 6x6 normal equations
@@ -44,8 +50,8 @@ bool Solve(ceres::Problem &problem, PoseBlocks &pose, const MapperConfig &config
     options.parameter_tolerance = 1e-7;
     ceres::Solver::Summary summary;
     ceres::Solve(options, &problem, &summary);
-    iterations += static_cast<int>(summary.iterations.size());
-    return summary.IsSolutionUsable() && pose.Finite();
+    return {summary.IsSolutionUsable() && pose.Finite(),
+            static_cast<int>(summary.iterations.size())};
 }
 
 ceres::Problem::Options ProblemOptions() {
@@ -54,7 +60,8 @@ ceres::Problem::Options ProblemOptions() {
     options.manifold_ownership = ceres::TAKE_OWNERSHIP;
     return options;
 }
-// The Doppler residuals of the static points, sharing one velocity of the pose since T_prev.
+// The Doppler residuals of the static points, sharing one velocity of the pose since
+// T_world_base_prev.
 void AddDoppler(ceres::Problem &problem, const RefinementInput &input,
                 const std::vector<DopplerObservation> *doppler,
                 const Eigen::Isometry3d &T_world_base_prev, const MapperConfig &config,
@@ -101,7 +108,9 @@ RefinementOutput RegisterAlone(const RefinementInput &input, const MapperConfig 
     PoseBlocks pose(input.T_world_base_initial);
     ceres::Problem problem(ProblemOptions());
     AddRegistration(problem, input, loss.get(), pose);
-    if (!Solve(problem, pose, config, out.iterations)) return out;
+    const Solved solved = Solve(problem, pose, config);
+    out.iterations += solved.iterations;
+    if (!solved.usable) return out;
     out.registered = RegistrationCovariance(pose.Pose(), *input.matches, loss.get(), config);
     out.usable = out.registered.valid;
     return out;
@@ -109,11 +118,19 @@ RefinementOutput RegisterAlone(const RefinementInput &input, const MapperConfig 
 
 namespace {
 
+// What step 1 found: the registered pose, when usable.
+struct JointRegistration {
+    Eigen::Isometry3d T_map_base = Eigen::Isometry3d::Identity();
+    bool usable = false;
+    int iterations = 0;
+    bool ground_used = false;
+};
+
 // Step 1: registration + Doppler + prior residuals on the map's chain (the refinement of the
-// previous releases, whose registered poses keep the map consistent).
-bool RegisterJointly(const RefinementInput &input, const MapperConfig &config,
-                     const ceres::LossFunction *loss, PoseBlocks &pose, int &iterations,
-                     bool &ground_used) {
+// previous releases, whose registered poses keep the map consistent), from input's initial pose.
+JointRegistration RegisterJointly(const RefinementInput &input, const MapperConfig &config,
+                                  const ceres::LossFunction *loss) {
+    PoseBlocks pose(input.T_world_base_initial);
     ceres::Problem problem(ProblemOptions());
     AddRegistration(problem, input, loss, pose);
     AddDoppler(problem, input, input.doppler_registration, input.T_world_base_prev, config, loss,
@@ -121,8 +138,13 @@ bool RegisterJointly(const RefinementInput &input, const MapperConfig &config,
     problem.AddResidualBlock(PriorError::Create(input.prior->T_world_base,
                                                 InverseCholeskyFactor<6>(input.prior->covariance)),
                              nullptr, pose.t.data(), pose.q.coeffs().data());
-    ground_used = AddGround(problem, input.ground, *input.prior, loss, pose);
-    return Solve(problem, pose, config, iterations);
+    JointRegistration out;
+    out.ground_used = AddGround(problem, input.ground, *input.prior, loss, pose);
+    const Solved solved = Solve(problem, pose, config);
+    out.usable = solved.usable;
+    out.iterations = solved.iterations;
+    out.T_map_base = pose.Pose();
+    return out;
 }
 
 // W with W^T W = the registration's information: its covariance's inverse Cholesky factor, or,
@@ -141,10 +163,11 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
     out.T_world_base = input.T_world_base_initial;
     const auto loss = MakeLoss(config.kernel, config.kernel_scale);
     // 1. The registered pose and its covariance.
-    PoseBlocks registered(input.T_world_base_initial);
-    if (!RegisterJointly(input, config, loss.get(), registered, out.iterations, out.ground_used))
-        return out;
-    out.registered = RegistrationCovariance(registered.Pose(), *input.matches, loss.get(), config);
+    const JointRegistration joint = RegisterJointly(input, config, loss.get());
+    out.iterations += joint.iterations;
+    out.ground_used = joint.ground_used;
+    if (!joint.usable) return out;
+    out.registered = RegistrationCovariance(joint.T_map_base, *input.matches, loss.get(), config);
     if (!out.registered.valid) return out;
     if (input.registration_scale != Eigen::Vector2d::Ones()) {  // the online noise calibration
         out.registered.covariance =
@@ -155,9 +178,10 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
     if (out.registered.weak_directions > 0) {
         // Solution remapping (Zhang et al. 2016): along the weak directions the registered pose
         // keeps the prior's value; the correction from the prior is kept across the strong ones.
-        const Eigen::Isometry3d &T_prior = input.prior->T_world_base;
-        const Vector6d xi = LogSE3(T_prior.inverse() * out.registered.T_world_base);
-        out.registered.T_world_base = T_prior * ExpSE3(out.registered.strong_projector * xi);
+        const Eigen::Isometry3d &T_world_base_prior = input.prior->T_world_base;
+        const Vector6d xi = LogSE3(T_world_base_prior.inverse() * out.registered.T_world_base);
+        out.registered.T_world_base =
+            T_world_base_prior * ExpSE3(out.registered.strong_projector * xi);
     }
 
     // 2. The output: its prior (a Gaussian: no robust loss) fused with the registered pose as one
@@ -178,7 +202,9 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
     // Its information is not added to the covariance below, which is this scan's motion's
     // relative to the map and the previous pose, not the absolute attitude's.
     out.ground_used = AddGround(problem, input.ground, prior, loss.get(), pose) || out.ground_used;
-    if (!Solve(problem, pose, config, out.iterations)) return out;
+    const Solved solved = Solve(problem, pose, config);
+    out.iterations += solved.iterations;
+    if (!solved.usable) return out;
     out.usable = true;
     out.T_world_base = pose.Pose();
     // The output's covariance: the inputs' informations summed (first order at the solution).

@@ -20,15 +20,15 @@ RowMajor34 ConjugateRotationJacobian(const Eigen::Vector3d &u, double s, const E
 
 }  // namespace
 
-WnoaError::Matrix12 WnoaError::Covariance(double dt_s, const Eigen::Matrix<double, 6, 1> &qc) {
-    const Eigen::Matrix<double, 6, 6> Qc = qc.asDiagonal();
+WnoaError::Matrix12 WnoaError::Covariance(double dt_s, const Vector6d &qc) {
+    const Matrix6d Qc = qc.asDiagonal();
     Matrix12 Q;
     Q << dt_s * dt_s * dt_s / 3.0 * Qc, dt_s * dt_s / 2.0 * Qc,  //
         dt_s * dt_s / 2.0 * Qc, dt_s * Qc;
     return Q;
 }
 
-WnoaError::WnoaError(double dt_s, const Eigen::Matrix<double, 6, 1> &qc_diag)
+WnoaError::WnoaError(double dt_s, const Vector6d &qc_diag)
     : dt_s_(dt_s), sqrt_information_(InverseCholeskyFactor<12>(Covariance(dt_s, qc_diag))) {}
 
 bool WnoaError::Evaluate(double const *const *parameters, double *residuals_ptr,

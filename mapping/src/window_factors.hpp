@@ -143,10 +143,10 @@ class WnoaError : public ceres::SizedCostFunction<12, 3, 4, 3, 3, 3, 4, 3, 3> {
   public:
     using Matrix12 = Eigen::Matrix<double, 12, 12>;
 
-    WnoaError(double dt_s, const Eigen::Matrix<double, 6, 1> &qc_diag);
+    WnoaError(double dt_s, const Vector6d &qc_diag);
 
     // The covariance Q above (tests compare it with a simulated random walk).
-    static Matrix12 Covariance(double dt_s, const Eigen::Matrix<double, 6, 1> &qc_diag);
+    static Matrix12 Covariance(double dt_s, const Vector6d &qc_diag);
 
     bool Evaluate(double const *const *parameters, double *residuals,
                   double **jacobians) const override;

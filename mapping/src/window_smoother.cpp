@@ -71,8 +71,7 @@ void WindowSmoother::Impl::Solve() {
     problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
     ceres::Problem problem(problem_options);
     const auto loss = MakeLoss(noise.loss, noise.loss_scale);
-    const Eigen::Matrix<double, 6, 1> qc =
-        (Eigen::Matrix<double, 6, 1>() << config.qc_linear, config.qc_angular).finished();
+    const Vector6d qc = (Vector6d() << config.qc_linear, config.qc_angular).finished();
     bool uses_gyro = false;
     for (std::size_t k = 0; k < slots.size(); ++k) {
         Slot &s = slots[k];

@@ -15,13 +15,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "dorado/core/angles.hpp"
 #include "robust_fit.hpp"
 #include "simd4.hpp"
 
 namespace dorado::odometry::internal {
 namespace {
-
-constexpr double kDegToRad = M_PI / 180.0;
 
 // Columns of ws.direction_noise, one row per point: its noise scale k^2, the covariance C of its
 // measured direction (upper triangle) and the diagonal of S^-1 (x and y share one value).
@@ -68,10 +67,10 @@ void AccumulateRound(const DopplerSystem &s, const Eigen::ArrayXXd &dn,
     using simd::Vec4;
     constexpr int kIn = 13;  // d x, y, z, b, w, C (6), S^-1 (h, v)
     const Eigen::Index n = s.size();
-    const double *in[kIn] = {s.A.col(0).data(),    s.A.col(1).data(),    s.A.col(2).data(),
-                             s.b.data(),           weighted.data(),      dn.col(kCxx).data(),
-                             dn.col(kCxy).data(),  dn.col(kCxz).data(),  dn.col(kCyy).data(),
-                             dn.col(kCyz).data(),  dn.col(kCzz).data(),  dn.col(kSinvH).data(),
+    const double *in[kIn] = {s.A.col(0).data(),    s.A.col(1).data(),   s.A.col(2).data(),
+                             s.b.data(),           weighted.data(),     dn.col(kCxx).data(),
+                             dn.col(kCxy).data(),  dn.col(kCxz).data(), dn.col(kCyy).data(),
+                             dn.col(kCyz).data(),  dn.col(kCzz).data(), dn.col(kSinvH).data(),
                              dn.col(kSinvV).data()};
     // H = sum w h (dd^T - C) gives M's columns x and y, V = sum w v (dd^T - C) its column z.
     Vec4 hxx{}, hxy{}, hxz{}, hyy{}, hyz{}, vxz{}, vyz{}, vzz{};
@@ -116,8 +115,8 @@ bool FitWithDirectionNoise(const EgoVelocityConfig &config, Workspace &ws, Eigen
     // Each point's noise scale k_i^2 (weak returns are measured worse, directions as Doppler):
     // the ratio of its Doppler-only gate to a strong return's, set by AssignWeightsAndGates.
     Eigen::ArrayXXd &dn = ws.direction_noise;
-    ComputeDirectionNoise(s, 1.0 / (gate0 * gate0), config.sensor.azimuth_sigma_deg * kDegToRad,
-                          config.sensor.elevation_sigma_deg * kDegToRad, dn);
+    ComputeDirectionNoise(s, 1.0 / (gate0 * gate0), DegToRad(config.sensor.azimuth_sigma_deg),
+                          DegToRad(config.sensor.elevation_sigma_deg), dn);
     ws.weighted.resize(n);
     int previous = -1;
     Eigen::Matrix3d M = Eigen::Matrix3d::Zero();

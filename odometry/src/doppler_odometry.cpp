@@ -234,7 +234,7 @@ void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, Odomet
         step.omega_base_used_radps = last_omega_base_;
     };
     auto accept = [&](const Eigen::Vector3d &v, const Eigen::Vector3d &omega,
-                      const Eigen::Matrix<double, 6, 6> &covariance) {
+                      const Matrix6d &covariance) {
         step.v_base_used_mps = v;
         step.omega_base_used_radps = omega;
         step.covariance_used = covariance;
@@ -245,7 +245,7 @@ void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, Odomet
 
     if (config_.method == OdometryMethod::kImu) {
         if (has_gyro)
-            accept(Eigen::Vector3d::Zero(), gyro_base_radps, Eigen::Matrix<double, 6, 6>::Zero());
+            accept(Eigen::Vector3d::Zero(), gyro_base_radps, Matrix6d::Zero());
         else
             fallback(FallbackCause::kNoImuSamples, "no IMU samples in the interval");
         return;
@@ -253,13 +253,13 @@ void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, Odomet
     if (!step.ego.valid()) return fallback(FallbackCause::kInvalidVelocity, Describe(step.ego));
     // eq. (7)'s covariance with the model's own error, or the angular-rate prior's posterior.
     Eigen::Vector3d v_base = step.motion.v_base_mps, omega_base = step.motion.omega_base_radps;
-    Eigen::Matrix<double, 6, 6> covariance;
+    Matrix6d covariance;
     covariance << step.motion.cov_v_base, step.motion.cov_v_omega_base,
         step.motion.cov_v_omega_base.transpose(), step.motion.cov_omega_base;
     covariance += step.motion.cov_model;
     // The angular-rate prior is the 3-D model's (roll and pitch rates): not for the planar chain.
     if (config_.angular_rate_prior && model_.constrained() && !step.planar) {
-        const VehicleTwist plausible = model_.PlausibleTwist(step.motion);
+        const Twist plausible = model_.PlausibleTwist(step.motion);
         v_base = plausible.v_base_mps;
         omega_base = plausible.omega_base_radps;
         covariance = plausible.covariance;
@@ -272,7 +272,7 @@ void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, Odomet
     if (config_.method == OdometryMethod::kImuDoppler) {
         if (has_gyro) {
             // The gyro gives omega and v_base = v_s - omega x s: no model error.
-            Eigen::Matrix<double, 6, 6> gyro_covariance = Eigen::Matrix<double, 6, 6>::Zero();
+            Matrix6d gyro_covariance = Matrix6d::Zero();
             gyro_covariance.topLeftCorner<3, 3>() = step.motion.cov_v_base;
             gyro_covariance.bottomRightCorner<3, 3>() = step.motion.cov_omega_base;
             if (step.planar) {  // in the plane: the gyro's yaw rate only

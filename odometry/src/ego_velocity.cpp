@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/require.hpp"
 #include "robust_fit.hpp"
 #include "simd4.hpp"
@@ -15,8 +16,6 @@
 
 namespace dorado::odometry {
 namespace {
-
-constexpr double kDegToRad = M_PI / 180.0;
 
 // eq. (2) weights from power, normalised to a largest weight of 1, and the inlier gate that
 // follows each point's Doppler noise.
@@ -106,13 +105,12 @@ void BuildSystem(const EgoVelocityConfig &config, const RadarScan &scan, interna
         const Eigen::Vector3d p = scan.xyz_radar.col(i);
         if (check_azimuth) {
             const double az = std::atan2(p.y(), p.x());
-            if (az < config.min_azimuth_deg * kDegToRad || az > config.max_azimuth_deg * kDegToRad)
+            if (az < DegToRad(config.min_azimuth_deg) || az > DegToRad(config.max_azimuth_deg))
                 continue;
         }
         if (check_elevation) {
             const double el = std::asin(p.z() / p.norm());
-            if (el < config.min_elevation_deg * kDegToRad ||
-                el > config.max_elevation_deg * kDegToRad)
+            if (el < DegToRad(config.min_elevation_deg) || el > DegToRad(config.max_elevation_deg))
                 continue;
         }
         if (n != i) {

@@ -5,13 +5,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 
 namespace dorado::odometry {
 
-namespace {
-constexpr double kDeg = M_PI / 180.0;
-}  // namespace
+namespace {}  // namespace
 
 void GroundAttitudeConfig::Validate() const {
     plane.Validate();
@@ -31,7 +30,7 @@ GroundAttitudeFilter::GroundAttitudeFilter(GroundAttitudeConfig config)
 
 void GroundAttitudeFilter::Predict(const Eigen::Matrix3d &cov_omega_base, double dt_s) {
     if (!(dt_s > 0.0)) return;
-    const double q = std::pow(config_.attitude_random_walk_deg_per_sqrt_s * kDeg, 2);
+    const double q = std::pow(DegToRad(config_.attitude_random_walk_deg_per_sqrt_s), 2);
     // Roll and pitch rates are the base's omega_x, omega_y to first order in roll and pitch.
     P_ +=
         cov_omega_base.topLeftCorner<2, 2>() * dt_s * dt_s + q * dt_s * Eigen::Matrix2d::Identity();
@@ -43,7 +42,7 @@ void GroundAttitudeFilter::Update(const GroundObservation &observation, double d
     step.fit = observation;
     step.cov_roll_pitch = P_;
     if (!observation.valid) return;
-    const double slope2 = std::pow(config_.road_slope_sigma_deg * kDeg, 2);
+    const double slope2 = std::pow(DegToRad(config_.road_slope_sigma_deg), 2);
     Eigen::Vector3d rpy = RollPitchYaw(T_world_base.linear());
     if (!initialized_) {  // the world frame is level with the road here
         step.correction_rad = observation.roll_pitch_rad - rpy.head<2>();
@@ -60,9 +59,11 @@ void GroundAttitudeFilter::Update(const GroundObservation &observation, double d
     const Eigen::Vector2d innovation = observation.roll_pitch_rad - rpy.head<2>();
     // The gate: one look at the road's slope (a ridge, a kerb or a ramp under the vehicle tilts
     // the plane beyond what the road's slope and the drift since the last update explain).
-    const Eigen::Matrix2d S1 = P_ + observation.cov_roll_pitch + slope2 * Eigen::Matrix2d::Identity();
+    const Eigen::Matrix2d S1 =
+        P_ + observation.cov_roll_pitch + slope2 * Eigen::Matrix2d::Identity();
     step.innovation_chi2 = innovation.dot(S1.ldlt().solve(innovation));
-    if (config_.max_innovation_chi2 > 0.0 && !(step.innovation_chi2 <= config_.max_innovation_chi2)) {
+    if (config_.max_innovation_chi2 > 0.0 &&
+        !(step.innovation_chi2 <= config_.max_innovation_chi2)) {
         step.observation.valid = false;
         step.observation.fallback = GroundFallback::kInconsistent;
         return;

@@ -6,11 +6,11 @@
 #include <random>
 #include <stdexcept>
 
+#include "dorado/core/angles.hpp"
+
 namespace dorado::odometry {
 
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 /// Weighted least squares of z = h + a x + b y on the points in `idx`: returns [h, a, b], the
 /// normal matrix and the weighted residual sum of squares.
@@ -53,7 +53,7 @@ bool RansacPlane(const GroundPlaneConfig &c, const Eigen::Matrix3Xd &p,
                  const std::vector<int> &candidates, Eigen::Vector3d &best_theta) {
     std::mt19937_64 rng(c.seed);
     std::uniform_int_distribution<std::size_t> pick(0, candidates.size() - 1);
-    const double max_slope = std::tan(c.max_tilt_deg * kDeg);
+    const double max_slope = std::tan(DegToRad(c.max_tilt_deg));
     int best = 0;
     for (int it = 0; it < c.ransac_iterations; ++it) {
         const Eigen::Vector3d p0 = p.col(candidates[pick(rng)]), p1 = p.col(candidates[pick(rng)]),
@@ -140,7 +140,7 @@ GroundObservation FitGroundPlane(const GroundPlaneConfig &c, const Eigen::Matrix
         obs.fallback = GroundFallback::kNoBaseHeight;
         return obs;
     }
-    const double tan_tilt = std::tan(c.max_tilt_deg * kDeg);
+    const double tan_tilt = std::tan(DegToRad(c.max_tilt_deg));
     std::vector<int> candidates;
     for (Eigen::Index i = 0; i < p.cols(); ++i) {
         if (static_cast<std::size_t>(i) >= use.size() || !use[static_cast<std::size_t>(i)])
@@ -164,7 +164,7 @@ GroundObservation FitGroundPlane(const GroundPlaneConfig &c, const Eigen::Matrix
     // Refit: weighted least squares on the inliers, a point's weight the inverse of its vertical
     // variance (floor + range * elevation noise); three rounds of regating at the inlier
     // threshold scaled like the point's own noise.
-    const double sigma_el = c.elevation_sigma_deg * kDeg;
+    const double sigma_el = DegToRad(c.elevation_sigma_deg);
     const double floor2 = 0.25 * c.inlier_threshold_m * c.inlier_threshold_m;
     PlaneFit fit;
     std::vector<int> inliers;

@@ -87,9 +87,9 @@ Eigen::Matrix<double, 6, 3> KinematicModel::ViolationJacobian() const {
     return G;
 }
 
-Eigen::Matrix<double, 6, 6> KinematicModel::ModelCovariance(
-    const Eigen::Vector3d &v_base, const Eigen::Vector3d &omega_base) const {
-    if (!constrained_) return Eigen::Matrix<double, 6, 6>::Zero();
+Matrix6d KinematicModel::ModelCovariance(const Eigen::Vector3d &v_base,
+                                         const Eigen::Vector3d &omega_base) const {
+    if (!constrained_) return Matrix6d::Zero();
     const KinematicModelNoise &n = model_noise_;
     const double yaw_rate = std::abs(omega_base.z()), speed = std::abs(v_base.x());
     const double icr = n.sigma_icr_x_m * yaw_rate;
@@ -102,14 +102,13 @@ Eigen::Matrix<double, 6, 6> KinematicModel::ModelCovariance(
     return G * variance.asDiagonal() * G.transpose();
 }
 
-VehicleTwist KinematicModel::PlausibleTwist(const VehicleMotion &motion) const {
-    using Matrix6d = Eigen::Matrix<double, 6, 6>;
+Twist KinematicModel::PlausibleTwist(const VehicleMotion &motion) const {
     Matrix6d covariance = motion.cov_model;
     covariance.topLeftCorner<3, 3>() += motion.cov_v_base;
     covariance.topRightCorner<3, 3>() += motion.cov_v_omega_base;
     covariance.bottomLeftCorner<3, 3>() += motion.cov_v_omega_base.transpose();
     covariance.bottomRightCorner<3, 3>() += motion.cov_omega_base;
-    Eigen::Matrix<double, 6, 1> x;
+    Vector6d x;
     x << motion.v_base_mps, motion.omega_base_radps;
     // The pseudo-measurement omega = 0 with covariance P: H = [0 I], S = H C H^T + P,
     // K = C H^T S^-1, x+ = x - K (H x), C+ = C - K H C.
@@ -120,7 +119,7 @@ VehicleTwist KinematicModel::PlausibleTwist(const VehicleMotion &motion) const {
         S.ldlt().solve(covariance.rightCols<3>().transpose()).transpose();
     x -= K * motion.omega_base_radps;
     covariance -= K * covariance.bottomRows<3>();
-    VehicleTwist twist;
+    Twist twist;
     twist.v_base_mps = x.head<3>();
     twist.omega_base_radps = x.tail<3>();
     twist.covariance = 0.5 * (covariance + covariance.transpose());

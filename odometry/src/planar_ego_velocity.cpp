@@ -9,12 +9,11 @@
 #include <utility>
 #include <vector>
 
+#include "dorado/core/angles.hpp"
 #include "validity.hpp"
 
 namespace dorado::odometry {
 namespace {
-
-constexpr double kDegToRad = M_PI / 180.0;
 
 // Eq. (1) in the plane for every point that passed the pre-filters: d_i . v = b_i = -doppler_i.
 struct PlanarSystem {
@@ -41,7 +40,7 @@ PlanarSystem BuildSystem(const EgoVelocityConfig &c, const RadarScan &scan,
         if (range < c.min_range_m || range > c.max_range_m || !(planar_range > 0.0)) continue;
         if (power < c.min_power_db) continue;
         const double az = std::atan2(p.y(), p.x());
-        if (az < c.min_azimuth_deg * kDegToRad || az > c.max_azimuth_deg * kDegToRad) continue;
+        if (az < DegToRad(c.min_azimuth_deg) || az > DegToRad(c.max_azimuth_deg)) continue;
         s.d.emplace_back(p.x() / planar_range, p.y() / planar_range);
         s.b.push_back(-doppler);  // eq. (1): -doppler_i = d_i . v_radar
         s.w.push_back(power);
@@ -130,7 +129,7 @@ bool Ransac(const EgoVelocityConfig &c, const PlanarSystem &s, std::vector<char>
     double best_score = -1.0;
     Eigen::Vector2d best = Eigen::Vector2d::Zero();
     int needed = c.ransac_max_iterations;
-    const double min_sin = std::sin(2.0 * kDegToRad);  // reject near-parallel pairs
+    const double min_sin = std::sin(DegToRad(2.0));  // reject near-parallel pairs
     for (iterations = 0; iterations < std::max(needed, c.ransac_min_iterations); ++iterations) {
         const int i = pick(rng), j = pick(rng);
         Eigen::Matrix2d D;

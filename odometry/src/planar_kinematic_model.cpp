@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "dorado/core/lie.hpp"
+
 namespace dorado::odometry {
 
 PlanarKinematicModel::PlanarKinematicModel(const Extrinsics &extrinsics,
@@ -17,8 +19,7 @@ PlanarKinematicModel::PlanarKinematicModel(const Extrinsics &extrinsics,
     s_ = extrinsics.T_base_radar.translation().head<2>();
     if (constrained_ && std::abs(s_.x()) < 1e-3)
         throw std::invalid_argument(
-            "extrinsics.T_base_radar: a 2D radar on the rear axle (x = " +
-            std::to_string(s_.x()) +
+            "extrinsics.T_base_radar: a 2D radar on the rear axle (x = " + std::to_string(s_.x()) +
             " m) cannot observe the yaw rate through the vehicle model (eq. 5: omega_z = v_sy / "
             "s_x)");
 }
@@ -27,8 +28,8 @@ VehicleMotion PlanarKinematicModel::Motion(const Eigen::Vector3d &v_radar,
                                            const Eigen::Matrix3d &cov_v_radar) const {
     VehicleMotion motion;
     const Eigen::Vector2d v_s = R_base_radar_ * v_radar.head<2>();
-    const Eigen::Matrix2d cov_s = R_base_radar_ * cov_v_radar.topLeftCorner<2, 2>() *
-                                  R_base_radar_.transpose();
+    const Eigen::Matrix2d cov_s =
+        R_base_radar_ * cov_v_radar.topLeftCorner<2, 2>() * R_base_radar_.transpose();
     if (!constrained_) {
         motion.v_base_mps << v_s, 0.0;
         motion.cov_v_base.topLeftCorner<2, 2>() = cov_s;
@@ -50,7 +51,7 @@ VehicleMotion PlanarKinematicModel::Motion(const Eigen::Vector3d &v_radar,
     const double sigma2 = noise_.sigma_lateral_mps * noise_.sigma_lateral_mps +
                           std::pow(noise_.sigma_icr_x_m * omega_z, 2) +
                           std::pow(noise_.rear_slip_rad_per_mps2 * v2 * omega_z, 2);
-    Eigen::Matrix<double, 6, 1> dx = Eigen::Matrix<double, 6, 1>::Zero();
+    Vector6d dx = Vector6d::Zero();
     dx(0) = s_.y() / s_.x();
     dx(1) = -1.0;
     dx(5) = 1.0 / s_.x();

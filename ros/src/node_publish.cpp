@@ -46,13 +46,13 @@ void DoradoNode::Publish(const std_msgs::Header &header, const RadarScan &scan,
     std_msgs::Header odom_header = header;
     odom_header.frame_id = settings_.tf_from_frame;
     const Eigen::Isometry3d &T_base_child = settings_.T_base_child;
-    const odometry::VehicleTwist twist = TwistAt(result.twist_base, T_base_child);
+    const Twist twist_child = TwistAt(result.twist_base, T_base_child);
     const Eigen::Isometry3d T_odom_child = result.T_world_base_odometry * T_base_child;
 
     nav_msgs::Odometry odom;
     odom.header = odom_header;
     odom.child_frame_id = settings_.tf_to_frame;
-    FillOdometry(T_odom_child, pose_covariance_.covariance(), twist, odom);
+    FillOdometry(T_odom_child, pose_covariance_.covariance(), twist_child, odom);
     odom_pub_.publish(odom);
     if (settings_.publish_tf)
         tf_broadcaster_.sendTransform(
@@ -69,8 +69,8 @@ void DoradoNode::Publish(const std_msgs::Header &header, const RadarScan &scan,
     map_odom.header = map_header;
     map_odom.child_frame_id = settings_.tf_to_frame;
     FillOdometry(T_map_base * T_base_child,
-                 MapPoseCovariance(T_map_base, T_base_child, result.registration.covariance), twist,
-                 map_odom);
+                 MapPoseCovariance(T_map_base, T_base_child, result.registration.covariance),
+                 twist_child, map_odom);
     map_odom_pub_.publish(map_odom);
     if (settings_.publish_tf)
         tf_broadcaster_.sendTransform(

@@ -18,9 +18,8 @@ class PoseCovariance {
 
     /// Adds one integration step of the twist [v; omega] (base frame, covariance C_twist) over
     /// dt_s, ending at T_world_base.
-    void Step(const Eigen::Isometry3d &T_world_base, const Eigen::Matrix<double, 6, 6> &C_twist,
-              double dt_s) {
-        Eigen::Matrix<double, 6, 6> Ad = Eigen::Matrix<double, 6, 6>::Zero();
+    void Step(const Eigen::Isometry3d &T_world_base, const Matrix6d &C_twist, double dt_s) {
+        Matrix6d Ad = Matrix6d::Zero();
         const Eigen::Matrix3d R = T_world_base.linear();
         Ad.topLeftCorner<3, 3>() = R;
         Ad.topRightCorner<3, 3>() = Hat(T_world_base.translation()) * R;
@@ -30,10 +29,10 @@ class PoseCovariance {
 
     /// Also the covariance of T_world_base * T_base_child for a constant offset T_base_child (a
     /// world-frame perturbation does not change under a right multiplication).
-    [[nodiscard]] const Eigen::Matrix<double, 6, 6> &covariance() const { return covariance_; }
+    [[nodiscard]] const Matrix6d &covariance() const { return covariance_; }
 
   private:
-    Eigen::Matrix<double, 6, 6> covariance_ = Eigen::Matrix<double, 6, 6>::Zero();
+    Matrix6d covariance_ = Matrix6d::Zero();
 };
 
 }  // namespace dorado::ros_node

@@ -56,27 +56,25 @@ sensor_msgs::PointCloud2 MakeCloud(const std_msgs::Header &header, const RadarSc
     return MakeCloud(header, points, &doppler, &power);
 }
 
-odometry::VehicleTwist TwistAt(const odometry::VehicleTwist &twist_base,
-                               const Eigen::Isometry3d &T_base_child) {
+Twist TwistAt(const Twist &twist_base, const Eigen::Isometry3d &T_base_child) {
     const Eigen::Matrix3d Rt = T_base_child.linear().transpose();
     // [v_child; omega_child] = J [v; omega], J = [[R^T, -R^T Hat(p)], [0, R^T]].
-    Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Zero();
+    Matrix6d J = Matrix6d::Zero();
     J.topLeftCorner<3, 3>() = Rt;
     J.topRightCorner<3, 3>() = -Rt * Hat(T_base_child.translation());
     J.bottomRightCorner<3, 3>() = Rt;
-    Eigen::Matrix<double, 6, 1> x;
+    Vector6d x;
     x << twist_base.v_base_mps, twist_base.omega_base_radps;
-    const Eigen::Matrix<double, 6, 1> y = J * x;
-    odometry::VehicleTwist child;
+    const Vector6d y = J * x;
+    Twist child;
     child.v_base_mps = y.head<3>();
     child.omega_base_radps = y.tail<3>();
     child.covariance = J * twist_base.covariance * J.transpose();
     return child;
 }
 
-void FillOdometry(const Eigen::Isometry3d &T_world_child,
-                  const Eigen::Matrix<double, 6, 6> &pose_covariance,
-                  const odometry::VehicleTwist &twist_child, nav_msgs::Odometry &msg) {
+void FillOdometry(const Eigen::Isometry3d &T_world_child, const Matrix6d &pose_covariance,
+                  const Twist &twist_child, nav_msgs::Odometry &msg) {
     const Eigen::Vector3d p = T_world_child.translation();
     const Eigen::Quaterniond q(T_world_child.linear());
     msg.pose.pose.position.x = p.x();

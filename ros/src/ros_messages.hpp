@@ -7,10 +7,11 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <Eigen/Geometry>
 
+#include "dorado/core/lie.hpp"
 #include "dorado/core/radar_scan.hpp"
+#include "dorado/core/twist.hpp"
 #include "dorado/io/pointcloud_decoder.hpp"
 #include "dorado/io/ros1_cloud_view.hpp"
-#include "dorado/odometry/kinematic_model.hpp"
 
 namespace dorado::ros_node {
 
@@ -28,13 +29,12 @@ namespace dorado::ros_node {
 
 /// The twist of a frame at T_base_child (no rotation: base_link shares the base's axes, else
 /// rotated too), from the base twist: v_child = R^T (v + omega x p), omega_child = R^T omega,
-/// with the covariance carried through the same linear map.
-[[nodiscard]] odometry::VehicleTwist TwistAt(const odometry::VehicleTwist &twist_base,
-                                             const Eigen::Isometry3d &T_base_child);
+/// with the covariance carried through the same linear map. The result is the child frame's own
+/// twist: in it, `base` is the child frame.
+[[nodiscard]] Twist TwistAt(const Twist &twist_base, const Eigen::Isometry3d &T_base_child);
 
 /// Fills pose (and its covariance, row-major 6x6) and twist (with covariance) of an Odometry.
-void FillOdometry(const Eigen::Isometry3d &T_world_child,
-                  const Eigen::Matrix<double, 6, 6> &pose_covariance,
-                  const odometry::VehicleTwist &twist_child, nav_msgs::Odometry &msg);
+void FillOdometry(const Eigen::Isometry3d &T_world_child, const Matrix6d &pose_covariance,
+                  const Twist &twist_child, nav_msgs::Odometry &msg);
 
 }  // namespace dorado::ros_node

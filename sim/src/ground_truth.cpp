@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 
 namespace dorado::sim {
@@ -12,7 +13,7 @@ MapperErrorModel::MapperErrorModel(const GroundTruthConfig &config, uint64_t see
 Eigen::Isometry3d MapperErrorModel::Perturb(const Eigen::Isometry3d &T_world_base, double dt_s) {
     std::normal_distribution<double> n(0.0, 1.0);
     const double sigma_p = config_.position_sigma_m;
-    const double sigma_r = config_.rotation_sigma_deg * M_PI / 180.0;
+    const double sigma_r = DegToRad(config_.rotation_sigma_deg);
     // Stationary Gauss-Markov: x_k = a x_{k-1} + sqrt(1 - a^2) sigma w_k, started in steady state.
     const double a = started_ ? std::exp(-dt_s / config_.correlation_time_s) : 0.0;
     const double b = std::sqrt(1.0 - a * a);

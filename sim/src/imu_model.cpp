@@ -28,7 +28,7 @@ ImuSample ImuModel::Measure(double t, int64_t stamp_ns, const VehicleTrajectory 
     const double root_rate = std::sqrt(config_.rate_hz);
 
     const Eigen::Isometry3d T_world_base = vehicle.Pose(t);
-    const BaseTwist twist = vehicle.Twist(t);
+    const Twist twist = vehicle.Twist(t);
     const Eigen::Matrix3d R_imu_base = T_base_imu_.linear().transpose();
     const Eigen::Matrix3d R_imu_world = R_imu_base * T_world_base.linear().transpose();
     // Specific force: acceleration of the IMU's point minus gravity (0, 0, -9.81).
@@ -37,7 +37,7 @@ ImuSample ImuModel::Measure(double t, int64_t stamp_ns, const VehicleTrajectory 
 
     ImuSample sample;
     sample.stamp_ns = stamp_ns;
-    sample.omega_imu_radps = R_imu_base * twist.omega_base + gyro_bias_ +
+    sample.omega_imu_radps = R_imu_base * twist.omega_base_radps + gyro_bias_ +
                              config_.gyro_noise_density * root_rate * Gaussian3(rng_);
     sample.accel_imu_mps2 = R_imu_world * specific_force_world + accel_bias_ +
                             config_.accel_noise_density * root_rate * Gaussian3(rng_);

@@ -133,7 +133,7 @@ MovingObjects::MovingObjects(const DynamicConfig &config, const Terrain &terrain
         const Anchor a = AnchorNearRoute(vehicle, rng, Uniform(rng, -20.0, -12.0),
                                          side() * Uniform(rng, 3.5, 6.0));
         const auto twist = vehicle.Twist(a.t_ref);
-        const double speed = std::abs(twist.v_base.x()) + Uniform(rng, 1.0, 3.0);
+        const double speed = std::abs(twist.v_base_mps.x()) + Uniform(rng, 1.0, 3.0);
         add(a, a.heading, speed, 0.0, 2.0, 25.0, {6.0, 1.25, 1.75},
             box({6.0, 1.25, 1.75}, 900, -8.0, 8.0, speed));
     }

@@ -5,11 +5,12 @@
 #include <limits>
 #include <numeric>
 
+#include "dorado/core/angles.hpp"
+
 namespace dorado::sim {
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 using Rng = std::mt19937_64;
 
 double Uniform(Rng &rng, double lo, double hi) {
@@ -111,8 +112,8 @@ class DepthBuffer {
     }
 
   private:
-    static constexpr double kCellAz = 0.5 * kDeg;
-    static constexpr double kCellEl = 1.0 * kDeg;
+    static constexpr double kCellAz = DegToRad(0.5);
+    static constexpr double kCellEl = DegToRad(1.0);
     [[nodiscard]] int AzCell(double az) const {
         return static_cast<int>(std::floor((az + half_az_) / kCellAz));
     }
@@ -166,7 +167,7 @@ class TerrainHorizon {
     }
 
   private:
-    static constexpr double kCellAz = 2.0 * kDeg;
+    static constexpr double kCellAz = DegToRad(2.0);
     static constexpr double kStep = 2.0;
     Eigen::Vector3d origin_;
     double half_az_;
@@ -196,14 +197,14 @@ RadarModel::RadarModel(const RadarConfig &config, const Terrain &terrain, const 
       terrain_(terrain),
       world_(world),
       moving_(moving),
-      cell_directions_(DepthBuffer::CellDirections(0.5 * config.azimuth_fov_deg * kDeg,
-                                                   0.5 * config.elevation_fov_deg * kDeg)) {}
+      cell_directions_(DepthBuffer::CellDirections(DegToRad(0.5 * config.azimuth_fov_deg),
+                                                   DegToRad(0.5 * config.elevation_fov_deg))) {}
 
 SimulatedScan RadarModel::Measure(double t, const Eigen::Isometry3d &T_world_radar,
                                   const Eigen::Vector3d &v_world_radar, Rng &rng) const {
     const RadarConfig &c = config_;
-    const double half_az = 0.5 * c.azimuth_fov_deg * kDeg,
-                 half_el = 0.5 * c.elevation_fov_deg * kDeg;
+    const double half_az = DegToRad(0.5 * c.azimuth_fov_deg),
+                 half_el = DegToRad(0.5 * c.elevation_fov_deg);
     const Eigen::Isometry3d T_radar_world = T_world_radar.inverse();
     const Eigen::Vector3d origin = T_world_radar.translation();
     const Eigen::Vector2d origin_xy = origin.head<2>();
@@ -298,9 +299,9 @@ SimulatedScan RadarModel::Measure(double t, const Eigen::Isometry3d &T_world_rad
         if (cand.source == PointSource::kGround || snr < c.detection_threshold_db + 15.0) continue;
         // Strong returns make ghosts.
         if (Uniform(rng, 0, 1) < c.ghost_probability) {  // angular ambiguity: wrong direction
-            const double shift = (rng() % 2 ? 1.0 : -1.0) * Uniform(rng, 8.0, 25.0) * kDeg;
+            const double shift = DegToRad((rng() % 2 ? 1.0 : -1.0) * Uniform(rng, 8.0, 25.0));
             detections.push_back({p.range, p.azimuth + shift,
-                                  p.elevation + 2.0 * kDeg * Gaussian(rng), doppler,
+                                  p.elevation + DegToRad(2.0) * Gaussian(rng), doppler,
                                   snr - Uniform(rng, 10.0, 20.0), PointSource::kGhost});
         }
         if (Uniform(rng, 0, 1) < c.double_bounce_probability) {  // radar-target-radar-target
@@ -358,9 +359,9 @@ SimulatedScan RadarModel::Measure(double t, const Eigen::Isometry3d &T_world_rad
             std::sqrt(1.0 + std::pow(10.0, (c.doppler_snr_ref_db - d.snr_db) / 10.0));
         const double range = std::max(0.05, d.range + c.range_sigma_m * Gaussian(rng));
         const double az =
-            d.azimuth + std::min(weak, 3.0) * c.azimuth_sigma_deg * kDeg * Gaussian(rng);
+            d.azimuth + DegToRad(std::min(weak, 3.0) * c.azimuth_sigma_deg) * Gaussian(rng);
         const double el =
-            d.elevation + std::min(weak, 3.0) * c.elevation_sigma_deg * kDeg * Gaussian(rng);
+            d.elevation + DegToRad(std::min(weak, 3.0) * c.elevation_sigma_deg) * Gaussian(rng);
         double doppler = d.doppler + weak * c.doppler_sigma_mps * Gaussian(rng);
         if (c.doppler_unambiguous_mps > 0.0) {
             const double span = 2.0 * c.doppler_unambiguous_mps;

@@ -1,5 +1,6 @@
 #include "dorado/sim/sequence_config.hpp"
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 
 #include <cmath>
@@ -44,7 +45,7 @@ class Checker {
 
 Eigen::Isometry3d MountConfig::Transform() const {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = RotationFromRollPitchYaw(rotation_rpy_deg * M_PI / 180.0);
+    T.linear() = RotationFromRollPitchYaw(DegToRad(rotation_rpy_deg));
     T.translation() = translation_m;
     return T;
 }

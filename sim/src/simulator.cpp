@@ -1,5 +1,6 @@
 #include "dorado/sim/simulator.hpp"
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 
 #include <algorithm>
@@ -98,10 +99,10 @@ SimulationResult Simulate(const SequenceConfig &config, const std::string &bag_p
             bag.WriteImu(topics.imu, config.imu.frame_id, imu.Measure(t, stamp_ns, vehicle));
         } else {
             const Eigen::Isometry3d T_world_base = vehicle.Pose(t);
-            const BaseTwist twist = vehicle.Twist(t);
+            const Twist twist = vehicle.Twist(t);
             // Rigid body (paper eq. 5): v_radar = R_base_radar^T (v_base + omega x t_base_radar).
             const Eigen::Vector3d v_radar_base =
-                twist.v_base + twist.omega_base.cross(T_base_radar.translation());
+                twist.v_base_mps + twist.omega_base_radps.cross(T_base_radar.translation());
             const Eigen::Vector3d v_radar = T_base_radar.linear().transpose() * v_radar_base;
             const Eigen::Isometry3d T_world_radar = T_world_base * T_base_radar;
             std::mt19937_64 rng(config.seed * 1000003ull +
@@ -110,7 +111,7 @@ SimulationResult Simulate(const SequenceConfig &config, const std::string &bag_p
                 radar.Measure(t, T_world_radar, T_world_base.linear() * v_radar_base, rng);
             sim.scan.stamp_ns = stamp_ns;
             bag.WriteRadar(topics.radar, sim.scan);
-            result.twists.push_back({stamp_ns, twist.v_base, twist.omega_base, v_radar});
+            result.twists.push_back({stamp_ns, twist.v_base_mps, twist.omega_base_radps, v_radar});
 
             const std::size_t n = sim.source.size();
             std::size_t moving_here = 0;
@@ -131,12 +132,12 @@ SimulationResult Simulate(const SequenceConfig &config, const std::string &bag_p
             }
             const Eigen::Vector2d roll_pitch = RollPitchYaw(T_world_base.linear()).head<2>();
             stats.max_abs_roll_deg =
-                std::max(stats.max_abs_roll_deg, std::abs(roll_pitch.x()) * 180.0 / M_PI);
+                std::max(stats.max_abs_roll_deg, RadToDeg(std::abs(roll_pitch.x())));
             stats.max_abs_pitch_deg =
-                std::max(stats.max_abs_pitch_deg, std::abs(roll_pitch.y()) * 180.0 / M_PI);
-            sum_roll_rate2 += twist.omega_base.x() * twist.omega_base.x();
-            sum_pitch_rate2 += twist.omega_base.y() * twist.omega_base.y();
-            stats.max_speed_mps = std::max(stats.max_speed_mps, twist.v_base.norm());
+                std::max(stats.max_abs_pitch_deg, RadToDeg(std::abs(roll_pitch.y())));
+            sum_roll_rate2 += twist.omega_base_radps.x() * twist.omega_base_radps.x();
+            sum_pitch_rate2 += twist.omega_base_radps.y() * twist.omega_base_radps.y();
+            stats.max_speed_mps = std::max(stats.max_speed_mps, twist.v_base_mps.norm());
             ++stats.scans;
             if (progress) progress(stats.scans, total_scans);
         }

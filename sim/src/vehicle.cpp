@@ -157,13 +157,14 @@ Eigen::Isometry3d VehicleTrajectory::Pose(double t) const {
     return T_world_base;
 }
 
-BaseTwist VehicleTrajectory::Twist(double t) const {
+dorado::Twist VehicleTrajectory::Twist(double t) const {
     constexpr double h = 1e-4;
     const double t0 = std::clamp(t, h, duration_s_ - h);
     const Eigen::Isometry3d before = Pose(t0 - h), at = Pose(t0), after = Pose(t0 + h);
-    BaseTwist twist;
-    twist.v_base = at.linear().transpose() * (after.translation() - before.translation()) / (2 * h);
-    twist.omega_base = LogSO3(before.linear().transpose() * after.linear()) / (2 * h);
+    dorado::Twist twist;
+    twist.v_base_mps =
+        at.linear().transpose() * (after.translation() - before.translation()) / (2 * h);
+    twist.omega_base_radps = LogSO3(before.linear().transpose() * after.linear()) / (2 * h);
     return twist;
 }
 

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 #include "dorado/core/time.hpp"
 #include "dorado/io/trajectory_io.hpp"
@@ -92,7 +93,7 @@ TEST_F(CmdOdometry, DopplerOdometryFollowsTheCircleAndReportsTheBadScan) {
     const double yaw_error =
         dorado::RotationAngle(last.T_world_body.linear().transpose() * truth.linear());
     std::printf("Doppler-only after %.1f s: %.3f m, %.3f deg\n", T, position_error,
-                yaw_error * 57.3);
+                dorado::RadToDeg(yaw_error));
     EXPECT_LT(position_error, 0.15);  // 11.8 m of path
     EXPECT_LT(yaw_error, 0.03);
 

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/io/trajectory_io.hpp"
 
 namespace {
@@ -58,7 +59,7 @@ TEST(EvalCommand, PerFrameRpeOfTumFilesMatchesClosedForm) {
         const double ex = v / w * std::sin(w * dt) - vq * dt;
         const double ey = v / w * (1 - std::cos(w * dt));
         EXPECT_NEAR(trans[k], std::hypot(ex, ey), 1e-6) << k;
-        EXPECT_NEAR(rot[k], w * dt * 180.0 / M_PI, 1e-5) << k;
+        EXPECT_NEAR(rot[k], dorado::RadToDeg(w * dt), 1e-5) << k;
     }
     // A wrong file is an error naming it.
     const std::string bad = std::string(DORADO_BINARY) + " eval --gt " +

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/io/dataset.hpp"
 #include "dorado/odometry/inertial_check.hpp"
@@ -141,7 +142,7 @@ TEST_F(RealRecording, DopplerVelocityFollowsTheAccelerometer) {
     EXPECT_LT(check.flipped.slope, -0.8);
     EXPECT_GT(check.flipped.rms_residual_mps, 3.0 * check.as_given.rms_residual_mps);
     // The shipped rotation is the fitted one (configs/ti_mmwave.yaml): nothing left to correct.
-    EXPECT_LT(check.rotation_correction_base_rad.norm(), 1.0 * M_PI / 180.0);
+    EXPECT_LT(check.rotation_correction_base_rad.norm(), DegToRad(1.0));
 
     Extrinsics as_in_file = run_->dataset.extrinsics;
     as_in_file.T_base_radar.linear() =
@@ -155,7 +156,7 @@ TEST_F(RealRecording, DopplerVelocityFollowsTheAccelerometer) {
         Eigen::Quaterniond(-0.0746967504749, 0.923218461092, -0.375992995522, 0.0267831268675)
             .toRotationMatrix();
     const auto conjugated = odometry::CompareWithImu(velocities, run_->imu, as_in_file);
-    EXPECT_NEAR(conjugated.rotation_correction_base_rad.norm() * 180.0 / M_PI, 7.9, 1.0);
+    EXPECT_NEAR(RadToDeg(conjugated.rotation_correction_base_rad.norm()), 7.9, 1.0);
 }
 
 // The rig rests for the first ~13 s: the gyro is quiet, every scan is stationary (the driver

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "bench_report.hpp"
+#include "dorado/core/angles.hpp"
 #include "dorado/io/trajectory_io.hpp"
 
 namespace dorado::apps {
@@ -103,7 +104,7 @@ TEST_F(BenchReport, MethodsAreScoredOnCommonStampsAgainstClosedForm) {
         for (std::size_t p = 0; p < 98; ++p) {
             const double dt = (e.rpe_frame.stamp_j_ns[p] - e.rpe_frame.stamp_i_ns[p]) * 1e-9;
             EXPECT_NEAR(e.rpe_frame.translation_m[p], ClosedFormTranslation(dt), 1e-6);
-            EXPECT_NEAR(e.rpe_frame.rotation_deg[p], kW * dt * 180 / M_PI, 1e-5);
+            EXPECT_NEAR(e.rpe_frame.rotation_deg[p], RadToDeg(kW * dt), 1e-5);
             // A turn in the plane against a straight line: all of the error is yaw.
             EXPECT_NEAR(e.rpe_frame.yaw_deg[p], e.rpe_frame.rotation_deg[p], 1e-9);
             EXPECT_LT(e.rpe_frame.roll_deg[p] + e.rpe_frame.pitch_deg[p], 1e-9);
@@ -167,16 +168,19 @@ TEST_F(BenchReport, CsvCellsWithCommasAndQuotesAreQuoted) {
     // Python's csv module (RFC 4180) is the independent reader: every row has the header's cells
     // and the names and the note come back whole.
     const std::string check =
-        std::string(DORADO_SYSTEM_PYTHON) + " -c '\n"
+        std::string(DORADO_SYSTEM_PYTHON) +
+        " -c '\n"
         "import csv, sys\n"
         "d = sys.argv[1]\n"
-        "for name, cells in ((\"results.csv\", 11), (\"bench_runs.csv\", 9), (\"rpe_pairs.csv\", 10)):\n"
+        "for name, cells in ((\"results.csv\", 11), (\"bench_runs.csv\", 9), (\"rpe_pairs.csv\", "
+        "10)):\n"
         "    rows = list(csv.reader(open(d + \"/\" + name, newline=\"\")))\n"
         "    assert len(rows) > 1 and all(len(r) == cells for r in rows), (name, rows[:3])\n"
         "    assert any(r[1] == \"map_doppler[a=1,b=2]\" for r in rows), name\n"
         "runs = list(csv.DictReader(open(d + \"/bench_runs.csv\", newline=\"\")))\n"
         "assert any(\"key \\\"x\\\", then y\" in r[\"note\"] for r in runs), runs\n"
-        "' " + out_.string();
+        "' " +
+        out_.string();
     EXPECT_EQ(std::system(check.c_str()), 0);
 }
 

@@ -15,6 +15,7 @@
 #include <random>
 #include <vector>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/trajectory.hpp"
 #include "dorado/eval/association.hpp"
 #include "dorado/eval/relative_pose_error.hpp"
@@ -83,7 +84,7 @@ EvoRpe EvoRpeFrames(const std::vector<Eigen::Isometry3d> &Q,
             (Q[i].inverse() * Q[i + 1]).inverse() * (P[i].inverse() * P[i + 1]);
         const double t = E.translation().norm();
         const double c = std::clamp((E.linear().trace() - 1.0) / 2.0, -1.0, 1.0);
-        const double a = std::acos(c) * 180.0 / M_PI;
+        const double a = RadToDeg(std::acos(c));
         sum_t += t * t;
         sum_r += a * a;
         ++r.pairs;

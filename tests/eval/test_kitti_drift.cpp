@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/eval/kitti_drift.hpp"
 
 namespace dorado::eval {
@@ -30,12 +31,12 @@ AssociatedPoses Straight(const std::function<Eigen::Isometry3d(double)> &estimat
 TEST(KittiDrift, ScaleErrorIsTheTranslationDrift) {
     // Every segment (L + 1 m of path: the first pose more than L further) ends 2 % of its
     // path too far: 2 (L + 1) / L % for each, no rotation.
-    const DriftResult drift = ComputeKittiDrift(Straight([](double s) {
-        return Pose(1.02 * s, 0.0, 0.0);
-    }));
+    const DriftResult drift =
+        ComputeKittiDrift(Straight([](double s) { return Pose(1.02 * s, 0.0, 0.0); }));
     const int starts[] = {90, 80, 70, 60, 50, 40, 30, 20};
     double sum = 0.0;
-    for (int k = 0; k < 8; ++k) sum += starts[k] * 2.0 * (100.0 * (k + 1) + 1.0) / (100.0 * (k + 1));
+    for (int k = 0; k < 8; ++k)
+        sum += starts[k] * 2.0 * (100.0 * (k + 1) + 1.0) / (100.0 * (k + 1));
     EXPECT_NEAR(drift.translation_percent, sum / 440.0, 1e-9);
     EXPECT_NEAR(drift.rotation_deg_per_100m, 0.0, 1e-9);
     // Segments: starts 0, 10, ..., 1000; length L fits when start + L < 1000 (strictly more
@@ -46,7 +47,7 @@ TEST(KittiDrift, ScaleErrorIsTheTranslationDrift) {
 TEST(KittiDrift, ConstantCurvatureIsTheRotationDrift) {
     // The estimate turns 1 deg per 100 m while the reference goes straight: every segment of
     // length L (L + 1 m of path, the first pose beyond L) errs by (L + 1) * kappa in heading.
-    const double kappa = M_PI / 180.0 / 100.0;  // rad per m
+    const double kappa = DegToRad(1.0) / 100.0;  // rad per m
     const DriftResult drift = ComputeKittiDrift(Straight([&](double s) {
         return Pose(std::sin(kappa * s) / kappa, (1.0 - std::cos(kappa * s)) / kappa, kappa * s);
     }));

@@ -10,13 +10,12 @@
 #include <cmath>
 #include <random>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/trajectory.hpp"
 #include "dorado/eval/relative_pose_error.hpp"
 
 namespace dorado::eval {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Isometry3d Pose(const Eigen::Matrix3d &R, const Eigen::Vector3d &t) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -72,7 +71,7 @@ TEST(Rpe, PerFrameEqualsClosedFormOfLineAgainstArc) {
         const double ex = v / w * std::sin(w * dt) - vq * dt;
         const double ey = v / w * (1 - std::cos(w * dt));
         EXPECT_NEAR(rpe.translation_m[k], std::hypot(ex, ey), 1e-9) << "pair " << k;
-        EXPECT_NEAR(rpe.rotation_deg[k], w * dt * 180.0 / kPi, 1e-7) << "pair " << k;
+        EXPECT_NEAR(rpe.rotation_deg[k], RadToDeg(w * dt), 1e-7) << "pair " << k;
     }
 }
 
@@ -106,7 +105,7 @@ TEST(Rpe, PerFrameEqualsBruteForceWithGeneralMatrixInverse) {
         const double angle = std::acos(std::clamp(cos_angle, -1.0, 1.0));
         const double translation = E.topRightCorner<3, 1>().norm();
         EXPECT_NEAR(rpe.translation_m[k], translation, 1e-9);
-        EXPECT_NEAR(rpe.rotation_deg[k], angle * 180.0 / kPi, 1e-6);
+        EXPECT_NEAR(rpe.rotation_deg[k], RadToDeg(angle), 1e-6);
     }
 }
 
@@ -129,7 +128,7 @@ TEST(Rpe, RotationErrorIsSplitOverTheBodyAxes) {
         const RelativeErrors rpe = ComputeRpe(SameStamps(stamps, ref, est), PairSelection{});
         ASSERT_EQ(rpe.pairs.size(), 19u);
         for (std::size_t k = 0; k < rpe.pairs.size(); ++k) {
-            const double expected = std::abs(angle[k + 1] - angle[k]) * 180.0 / kPi;
+            const double expected = RadToDeg(std::abs(angle[k + 1] - angle[k]));
             const double by_axis[3] = {rpe.roll_deg[k], rpe.pitch_deg[k], rpe.yaw_deg[k]};
             for (int a = 0; a < 3; ++a)
                 EXPECT_NEAR(by_axis[a], a == axis ? expected : 0.0, 1e-9) << axis << " " << k;

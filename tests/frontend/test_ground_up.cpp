@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 #include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/odometry/ground_plane.hpp"
@@ -14,7 +15,7 @@
 namespace dorado::frontend {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+constexpr double kDeg = DegToRad(1.0);
 
 TEST(GroundUpFromFit, IsTheWorldsUpInTheBaseFrameOfARoadOfKnownRollAndPitch) {
     const double roll = 3.0 * kDeg, pitch = -2.0 * kDeg, height = 0.3;

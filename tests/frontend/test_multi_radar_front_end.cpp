@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 #include "dorado/frontend/multi_radar_front_end.hpp"
 #include "dorado/testing/planar_rig.hpp"
@@ -50,9 +51,9 @@ MapRun Map(const testing::PlanarRig &rig, bool calibrate, double seconds = 24.0)
     const Eigen::Isometry3d estimate = trajectory.poses().back().T_world_body;
     run.end_error_m = (estimate.translation() - truth.translation()).norm();
     run.end_heading_error_deg =
-        std::abs(LogSO3(estimate.linear().transpose() * truth.linear()).z()) * 180.0 / M_PI;
+        RadToDeg(std::abs(LogSO3(estimate.linear().transpose() * truth.linear()).z()));
     run.path_m = rig.speed_mps * (t1 - t0);
-    run.mount_offset_deg = front_end.twist_filter().mount_yaw_offset_rad(1) * 180.0 / M_PI;
+    run.mount_offset_deg = RadToDeg(front_end.twist_filter().mount_yaw_offset_rad(1));
     return run;
 }
 

@@ -114,7 +114,7 @@ TEST(RadarFrontEnd, DopplerPriorFollowsTheAngularRatePriorSetting) {
                 model.Motion(r.odometry.ego.v_radar_mps, r.odometry.ego.cov_v_radar);
             Eigen::Vector3d v = motion.v_base_mps, w = motion.omega_base_radps;
             if (angular_rate_prior) {
-                const odometry::VehicleTwist plausible = model.PlausibleTwist(motion);
+                const Twist plausible = model.PlausibleTwist(motion);
                 v = plausible.v_base_mps;
                 w = plausible.omega_base_radps;
             }

@@ -11,10 +11,12 @@
 
 #include "dorado/core/lie.hpp"
 #include "dorado/mapping/radar_mapper.hpp"
+#include "dorado/testing/mapper_input.hpp"
 #include "dorado/testing/street_scene.hpp"
 
 namespace dorado::mapping {
 namespace {
+using testing::PriorInput;
 
 using testing::RadarSimOptions;
 using testing::SimulateScan;
@@ -90,9 +92,9 @@ TwoScans RegisterTwoScans(const MapperConfig &config) {
     TwoScans out;
     MotionPrior start;  // the first scan starts the map at the true pose
     start.covariance = Matrix6d::Identity() * 1e-6;
-    out.first = mapper.Register(ScanAt(0.0, 1, rng), start, kDtS);
+    out.first = mapper.Register(ScanAt(0.0, 1, rng), PriorInput(start, kDtS));
     out.map_points_after_first = mapper.local_map().size();
-    out.second = mapper.Register(ScanAt(kSpeedMps * kDtS, 2, rng), ShortPrior(), kDtS);
+    out.second = mapper.Register(ScanAt(kSpeedMps * kDtS, 2, rng), PriorInput(ShortPrior(), kDtS));
     out.map_points_after_second = mapper.local_map().size();
     return out;
 }

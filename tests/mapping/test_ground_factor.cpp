@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 #include "ground_factor.hpp"
 #include "registration.hpp"
@@ -14,7 +15,7 @@
 namespace dorado::mapping {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+constexpr double kDeg = DegToRad(1.0);
 
 // The road's up-vector in the base frame for roll r, pitch p (ZYX), written out, not from a
 // rotation: (-sin p, sin r cos p, cos r cos p).

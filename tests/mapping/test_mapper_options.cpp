@@ -11,10 +11,12 @@
 
 #include "dorado/core/lie.hpp"
 #include "dorado/mapping/radar_mapper.hpp"
+#include "dorado/testing/mapper_input.hpp"
 #include "dorado/testing/street_scene.hpp"
 
 namespace dorado::mapping {
 namespace {
+using testing::PriorInput;
 
 using testing::MakeStreetWorld;
 using testing::RadarSimOptions;
@@ -66,8 +68,8 @@ std::vector<bool> MapUpdates(const MapperConfig &config,
     std::vector<bool> updated;
     for (std::size_t k = 0; k < poses.size(); ++k) {
         const std::size_t before = mapper.local_map().size();
-        const RegistrationResult r =
-            mapper.Register(ScanFrom(poses[k], v_base, omega_base, rng), PriorAt(poses[k]), kDtS);
+        const RegistrationResult r = mapper.Register(ScanFrom(poses[k], v_base, omega_base, rng),
+                                                     PriorInput(PriorAt(poses[k]), kDtS));
         EXPECT_FALSE(r.fallback()) << k << ": " << ToString(r.fallback_cause);
         if (r.map_updated) {
             EXPECT_GT(r.map_points_added_world.cols(), 0) << k;
@@ -138,10 +140,10 @@ TEST(MapperOptions, RefineOuterIterationsReassociateACutShortRegistration) {
         config.refine_outer_iterations = rounds;
         RadarMapper mapper(config, Mount());
         std::mt19937 rng(9);
-        mapper.Register(ScanFrom(T_first, v_base, Eigen::Vector3d::Zero(), rng), PriorAt(T_first),
-                        kDtS);
-        const RegistrationResult r =
-            mapper.Register(ScanFrom(T_true, v_base, Eigen::Vector3d::Zero(), rng), prior, kDtS);
+        mapper.Register(ScanFrom(T_first, v_base, Eigen::Vector3d::Zero(), rng),
+                        PriorInput(PriorAt(T_first), kDtS));
+        const RegistrationResult r = mapper.Register(
+            ScanFrom(T_true, v_base, Eigen::Vector3d::Zero(), rng), PriorInput(prior, kDtS));
         EXPECT_FALSE(r.fallback()) << rounds << ": " << ToString(r.fallback_cause);
         EXPECT_TRUE(r.registered.valid) << rounds;
         return RotationAngle(T_true.linear().transpose() * r.registered.T_world_base.linear()) /
@@ -169,9 +171,10 @@ TEST(MapperOptions, AJumpBeyondThePriorsGateFallsBackToThePrior) {
         config.max_prior_mahalanobis_squared = gate;
         RadarMapper mapper(config, Mount());
         std::mt19937 rng(9);
-        mapper.Register(ScanFrom(T_first, v_base, Eigen::Vector3d::Zero(), rng), PriorAt(T_first),
-                        kDtS);
-        return mapper.Register(ScanFrom(T_true, v_base, Eigen::Vector3d::Zero(), rng), prior, kDtS);
+        mapper.Register(ScanFrom(T_first, v_base, Eigen::Vector3d::Zero(), rng),
+                        PriorInput(PriorAt(T_first), kDtS));
+        return mapper.Register(ScanFrom(T_true, v_base, Eigen::Vector3d::Zero(), rng),
+                               PriorInput(prior, kDtS));
     };
     const RegistrationResult gated = second_scan(25.0);
     std::printf("Mahalanobis^2 of the registration from the prior: %.1f\n",

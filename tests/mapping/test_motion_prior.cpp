@@ -31,11 +31,11 @@ TEST(MotionPrior, ConstantVelocityReplaysTheLastMotionScaledByTime) {
 
 TEST(MotionPrior, DopplerIsAConstantTwistWithCovarianceScaledByDtSquaredAndRollFloor) {
     const Eigen::Isometry3d T0 = ExpSE3(Xi(5, -1, 0.2, 0.01, 0.02, -0.4));
-    BaseTwist twist;
+    Twist twist;
     twist.v_base_mps = {7.0, 0.0, 0.1};
     twist.omega_base_radps = {0.0, 0.02, 0.3};
-    twist.cov_v_base = Eigen::Vector3d(1e-4, 4e-4, 9e-4).asDiagonal();
-    twist.cov_omega_base.setZero();  // the kinematic model's roll: zero variance (paper eq. 9)
+    twist.covariance.topLeftCorner<3, 3>() = Eigen::Vector3d(1e-4, 4e-4, 9e-4).asDiagonal();
+    // The kinematic model's roll: zero variance (paper eq. 9), as every rate here.
     PriorNoiseConfig noise;
     const double dt = 0.08;
     const MotionPrior prior = PriorFromDoppler(T0, twist, dt, noise);
@@ -54,24 +54,24 @@ TEST(MotionPrior, TrapezoidTwistIntegratesAConstantAccelerationExactly) {
     // Straight line, a = 3 m/s^2 from 10 m/s over 0.1 s: the true displacement is
     // v0 dt + a dt^2 / 2 = 1.015 m. The end twist alone says v1 dt = 1.03 m (a dt^2 / 2 too far).
     const double v0 = 10.0, a = 3.0, dt = 0.1;
-    BaseTwist start, end;
+    Twist start, end;
     start.v_base_mps = {v0, 0.0, 0.0};
     end.v_base_mps = {v0 + a * dt, 0.0, 0.0};
-    start.cov_v_base = Eigen::Vector3d(4e-4, 1e-4, 1e-4).asDiagonal();
-    end.cov_v_base = Eigen::Vector3d(2e-4, 3e-4, 1e-4).asDiagonal();
-    start.cov_omega_base = 1e-6 * Eigen::Matrix3d::Identity();
-    end.cov_omega_base = 3e-6 * Eigen::Matrix3d::Identity();
+    start.covariance.topLeftCorner<3, 3>() = Eigen::Vector3d(4e-4, 1e-4, 1e-4).asDiagonal();
+    end.covariance.topLeftCorner<3, 3>() = Eigen::Vector3d(2e-4, 3e-4, 1e-4).asDiagonal();
+    start.covariance.bottomRightCorner<3, 3>() = 1e-6 * Eigen::Matrix3d::Identity();
+    end.covariance.bottomRightCorner<3, 3>() = 3e-6 * Eigen::Matrix3d::Identity();
     const double truth = v0 * dt + 0.5 * a * dt * dt;
     const PriorNoiseConfig noise;
     const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
     EXPECT_NEAR(PriorFromDoppler(I, end, dt, noise).T_world_base.translation().x() - truth,
                 0.5 * a * dt * dt, 1e-12);
-    const BaseTwist mean = TrapezoidTwist(start, end);
+    const Twist mean = TrapezoidTwist(start, end);
     EXPECT_NEAR(PriorFromDoppler(I, mean, dt, noise).T_world_base.translation().x(), truth, 1e-12);
     // (C_start + C_end) / 2: consecutive intervals share a scan (the sum over n intervals).
-    EXPECT_NEAR(mean.cov_v_base(0, 0), 3e-4, 1e-18);
-    EXPECT_NEAR(mean.cov_v_base(1, 1), 2e-4, 1e-18);
-    EXPECT_NEAR(mean.cov_omega_base(2, 2), 2e-6, 1e-18);
+    EXPECT_NEAR(mean.covariance(0, 0), 3e-4, 1e-18);
+    EXPECT_NEAR(mean.covariance(1, 1), 2e-4, 1e-18);
+    EXPECT_NEAR(mean.covariance(5, 5), 2e-6, 1e-18);
     EXPECT_STREQ(ToString(noise.doppler_integration), "trapezoid");  // the default
 }
 
@@ -134,7 +134,8 @@ TEST(MotionPrior, ImuAndDopplerTakesRotationFromTheGyroAndTranslationFromDoppler
         samples[k].stamp_ns = 1000 + 10 * k;
         samples[k].omega_imu_radps = Eigen::Vector3d(0.0, 0.0, -0.4);  // +0.4 about base Z
     }
-    BaseTwist twist;
+    Twist twist;
+    twist.covariance = Matrix6d::Identity();
     twist.v_base_mps = {6.0, 0.0, 0.0};
     twist.omega_base_radps = {0.3, 0.3, 0.3};  // ignored
     const auto prior = PriorFromImuAndDoppler(Eigen::Isometry3d::Identity(), twist, samples, 1000,

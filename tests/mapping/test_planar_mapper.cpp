@@ -7,11 +7,14 @@
 #include <cmath>
 #include <random>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 #include "dorado/mapping/radar_mapper.hpp"
+#include "dorado/testing/mapper_input.hpp"
 
 namespace dorado::mapping {
 namespace {
+using testing::PriorInput;
 
 constexpr double kMountHeight = 0.5;
 
@@ -48,8 +51,7 @@ RadarScan Scan(const Eigen::Matrix3Xd &world, const Eigen::Isometry3d &T_world_b
     for (Eigen::Index i = 0; i < world.cols(); ++i) {
         Eigen::Vector3d p = T_radar_world * world.col(i);
         const double r = p.head<2>().norm();
-        if (r < 2.0 || r > 60.0 || std::abs(std::atan2(p.y(), p.x())) > 75.0 * M_PI / 180.0)
-            continue;
+        if (r < 2.0 || r > 60.0 || std::abs(std::atan2(p.y(), p.x())) > DegToRad(75.0)) continue;
         p.x() += noise(rng);
         p.y() += noise(rng);
         p.z() = 0.0;
@@ -67,6 +69,7 @@ RadarScan Scan(const Eigen::Matrix3Xd &world, const Eigen::Isometry3d &T_world_b
     return scan;
 }
 
+// One scan's input: the prior and the interval, no masks.
 TEST(PlanarMapper, RegistrationInThePlaneRemovesTheYawRateBiasAndHoldsZRollPitch) {
     std::mt19937 rng(5);
     const Eigen::Matrix3Xd world = World(rng);
@@ -78,11 +81,13 @@ TEST(PlanarMapper, RegistrationInThePlaneRemovesTheYawRateBiasAndHoldsZRollPitch
     extrinsics.T_base_radar = Mount();
     RadarMapper mapper(MapperConfig{}, extrinsics);
     mapper.SetPlanar();
-    BaseTwist twist;  // the biased Doppler-odometry twist, planar covariance
+    Twist twist;  // the biased Doppler-odometry twist, planar covariance
     twist.v_base_mps << v, 0.0, 0.0;
     twist.omega_base_radps << 0.0, 0.0, omega + bias;
-    twist.cov_v_base = Eigen::Vector3d(0.05 * 0.05, 0.02 * 0.02, 0.0).asDiagonal();
-    twist.cov_omega_base = Eigen::Vector3d(0.0, 0.0, 0.01 * 0.01).asDiagonal();
+    twist.covariance.topLeftCorner<3, 3>() =
+        Eigen::Vector3d(0.05 * 0.05, 0.02 * 0.02, 0.0).asDiagonal();
+    twist.covariance.bottomRightCorner<3, 3>() =
+        Eigen::Vector3d(0.0, 0.0, 0.01 * 0.01).asDiagonal();
     Eigen::Isometry3d truth = Eigen::Isometry3d::Identity(), prior_only = truth, estimate = truth;
     int fallbacks = 0;
     for (int k = 0; k < scans; ++k) {
@@ -95,7 +100,8 @@ TEST(PlanarMapper, RegistrationInThePlaneRemovesTheYawRateBiasAndHoldsZRollPitch
             prior = PriorFromDoppler(estimate, twist, dt, PriorNoiseConfig{});
             prior_only = PriorFromDoppler(prior_only, twist, dt, PriorNoiseConfig{}).T_world_base;
         }
-        const RegistrationResult r = mapper.Register(Scan(world, truth, rng), prior, dt);
+        const RegistrationResult r =
+            mapper.Register(Scan(world, truth, rng), PriorInput(prior, dt));
         fallbacks += r.fallback();
         estimate = r.T_world_base;
         // Held: z, roll and pitch are the start's (0) exactly, to rounding.
@@ -133,7 +139,8 @@ TEST(PlanarMapper, AGyroPriorsRollAndPitchDoNotLeaveThePlane) {
         if (k > 0) truth = truth * ExpSE3(xi_true);
         MotionPrior prior{estimate * ExpSE3(xi_gyro), Matrix6d::Identity() * 1e-4, PriorKind::kImu};
         if (k == 0) prior = MotionPrior{truth, Matrix6d::Identity() * 1e-6, PriorKind::kImu};
-        const RegistrationResult r = mapper.Register(Scan(world, truth, rng), prior, dt);
+        const RegistrationResult r =
+            mapper.Register(Scan(world, truth, rng), PriorInput(prior, dt));
         estimate = r.T_world_base;
         ASSERT_NEAR(estimate.translation().z(), 0.0, 1e-9) << k;
         ASSERT_NEAR(estimate.linear()(2, 2), 1.0, 1e-12) << k;

@@ -8,12 +8,15 @@
 #include <limits>
 #include <random>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 #include "dorado/mapping/radar_mapper.hpp"
+#include "dorado/testing/mapper_input.hpp"
 #include "dorado/testing/street_scene.hpp"
 
 namespace dorado::mapping {
 namespace {
+using testing::PriorInput;
 
 using namespace testing;
 
@@ -35,15 +38,16 @@ Eigen::Matrix3Xd CarPoints(const Eigen::Vector3d &front) {
     return out;
 }
 
-BaseTwist NoisyTwist(const TruthSample &truth, std::mt19937 &rng) {
+Twist NoisyTwist(const TruthSample &truth, std::mt19937 &rng) {
     std::normal_distribution<double> n(0.0, 1.0);
-    BaseTwist twist;
+    Twist twist;
     twist.v_base_mps = truth.v_base + 0.03 * Eigen::Vector3d(n(rng), n(rng), n(rng));
     // Roll rate set to zero as the kinematic model does; pitch and yaw rates noisy.
     twist.omega_base_radps = Eigen::Vector3d(0.0, truth.omega_base.y() + 0.02 * n(rng),
                                              truth.omega_base.z() + 0.005 * n(rng));
-    twist.cov_v_base = Eigen::Matrix3d::Identity() * 0.03 * 0.03;
-    twist.cov_omega_base = Eigen::Vector3d(0.0, 0.02 * 0.02, 0.005 * 0.005).asDiagonal();
+    twist.covariance.topLeftCorner<3, 3>() = Eigen::Matrix3d::Identity() * 0.03 * 0.03;
+    twist.covariance.bottomRightCorner<3, 3>() =
+        Eigen::Vector3d(0.0, 0.02 * 0.02, 0.005 * 0.005).asDiagonal();
     return twist;
 }
 
@@ -193,6 +197,7 @@ DriveResult Drive(int scans, bool use_mask, Refinement refinement) {
     return Drive(scans, use_mask, config);
 }
 
+// One scan's input: the prior and the interval, no masks.
 TEST(RadarMapper, MaskKeepsTheMovingCarOutOfTheMap) {
     const DriveResult without = Drive(15, false, Refinement::kNone);
     const DriveResult with = Drive(15, true, Refinement::kNone);
@@ -234,11 +239,11 @@ TEST(RadarMapper, MoverRulesKeepALeakilyMaskedCarOutOfTheMap) {
 TEST(RadarMapper, ShortDriveStaysWithinStatedRpe) {
     const DriveResult r = Drive(40, true, Refinement::kCeres);
     std::printf("RPE per frame: %.4f m, %.4f deg; Doppler prior alone %.4f m; fallbacks %d\n",
-                r.mean_rpe_translation_m, r.mean_rpe_rotation_rad * 180.0 / M_PI,
+                r.mean_rpe_translation_m, RadToDeg(r.mean_rpe_rotation_rad),
                 r.prior_only_rpe_translation_m, r.fallbacks);
     std::printf("last pose error: %.4f m, %.4f deg; Doppler prior alone %.4f m, %.4f deg\n",
-                r.final_error_m, r.final_error_rad * 180.0 / M_PI, r.prior_only_final_error_m,
-                r.prior_only_final_error_rad * 180.0 / M_PI);
+                r.final_error_m, RadToDeg(r.final_error_rad), r.prior_only_final_error_m,
+                RadToDeg(r.prior_only_final_error_rad));
     // Stated accuracy on this sequence (7.5 m/s, 0.75 m per frame): 1 cm and 0.15 deg per frame
     // (measured 5.3 mm, 0.12 deg), and no worse than the Doppler prior it starts from: fused by
     // their information, the registration (cm-noisy per frame) moves the translation little
@@ -246,7 +251,7 @@ TEST(RadarMapper, ShortDriveStaysWithinStatedRpe) {
     // in rotation on the simulated drives, docs/covariance.md).
     EXPECT_LT(r.mean_rpe_translation_m, 0.01);
     EXPECT_LT(r.mean_rpe_translation_m, 1.02 * r.prior_only_rpe_translation_m);
-    EXPECT_LT(r.mean_rpe_rotation_rad, 0.15 * M_PI / 180.0);
+    EXPECT_LT(r.mean_rpe_rotation_rad, DegToRad(0.15));
     EXPECT_EQ(r.fallbacks, 0);
     // What the registration adds: the map holds the pose where the prior's twists alone drift.
     // Measured after 40 scans (30 m): 0.092 m, 0.40 deg against 0.277 m, 0.87 deg; with the
@@ -261,11 +266,11 @@ TEST(RadarMapper, WindowSmootherShortDrive) {
     const DriveResult window = Drive(40, true, Refinement::kWindow);
     const DriveResult single = Drive(40, true, Refinement::kCeres);
     std::printf("window RPE per frame: %.4f m, %.4f deg (ceres %.4f m, %.4f deg); fallbacks %d\n",
-                window.mean_rpe_translation_m, window.mean_rpe_rotation_rad * 180.0 / M_PI,
-                single.mean_rpe_translation_m, single.mean_rpe_rotation_rad * 180.0 / M_PI,
+                window.mean_rpe_translation_m, RadToDeg(window.mean_rpe_rotation_rad),
+                single.mean_rpe_translation_m, RadToDeg(single.mean_rpe_rotation_rad),
                 window.fallbacks);
     EXPECT_LT(window.mean_rpe_translation_m, 0.01);
-    EXPECT_LT(window.mean_rpe_rotation_rad, 0.15 * M_PI / 180.0);
+    EXPECT_LT(window.mean_rpe_rotation_rad, DegToRad(0.15));
     EXPECT_EQ(window.fallbacks, 0);
     // Measured 1.1 mm, 0.076 deg against 3.6 mm, 0.086 deg.
     EXPECT_LT(window.mean_rpe_translation_m, single.mean_rpe_translation_m);
@@ -285,13 +290,13 @@ TEST(RadarMapper, FilterBuildsTheMapFromItsOwnPoses) {
     std::printf(
         "one chain: RPE per frame %.4f m, %.4f deg, last pose %.4f m, map offset %.2e m; "
         "two chains: %.4f m, %.4f deg, %.4f m, map offset %.2e m\n",
-        one.mean_rpe_translation_m, one.mean_rpe_rotation_rad * 180.0 / M_PI, one.final_error_m,
+        one.mean_rpe_translation_m, RadToDeg(one.mean_rpe_rotation_rad), one.final_error_m,
         one.map_offset_from_output_m, two.mean_rpe_translation_m,
-        two.mean_rpe_rotation_rad * 180.0 / M_PI, two.final_error_m, two.map_offset_from_output_m);
+        RadToDeg(two.mean_rpe_rotation_rad), two.final_error_m, two.map_offset_from_output_m);
     EXPECT_LT(one.map_offset_from_output_m, 1e-6);
     EXPECT_GT(two.map_offset_from_output_m, 1e-4);
     EXPECT_LT(one.mean_rpe_translation_m, 0.01);
-    EXPECT_LT(one.mean_rpe_rotation_rad, 0.15 * M_PI / 180.0);
+    EXPECT_LT(one.mean_rpe_rotation_rad, DegToRad(0.15));
     EXPECT_LT(one.final_error_m, 0.5 * one.prior_only_final_error_m);
     EXPECT_EQ(one.fallbacks, 0);
 }
@@ -318,14 +323,14 @@ TEST(RadarMapper, OneWallFallsBackToThePrior) {
                      Eigen::Vector3d::Zero(), none, Eigen::Vector3d::Zero(), sim, rng, nullptr);
     MotionPrior prior;
     prior.covariance = Matrix6d::Identity() * 0.01;
-    ASSERT_TRUE(mapper.Register(first, prior, 0.1).first_scan);
+    ASSERT_TRUE(mapper.Register(first, PriorInput(prior, 0.1)).first_scan);
 
     const Eigen::Isometry3d T_true(Eigen::Translation3d(0.0, 0.3, 0.0));
     const RadarScan second =
         SimulateScan(world, T_true, extrinsics.T_base_radar, v, Eigen::Vector3d::Zero(), none,
                      Eigen::Vector3d::Zero(), sim, rng, nullptr);
     prior.T_world_base = Eigen::Isometry3d(Eigen::Translation3d(0.01, 0.25, 0.0));
-    const RegistrationResult r = mapper.Register(second, prior, 0.1);
+    const RegistrationResult r = mapper.Register(second, PriorInput(prior, 0.1));
     EXPECT_TRUE(r.fallback());
     EXPECT_EQ(r.fallback_cause, FallbackCause::kDegenerate) << ToString(r.fallback_cause);
     EXPECT_TRUE(r.T_world_base.isApprox(prior.T_world_base));

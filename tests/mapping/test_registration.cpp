@@ -7,10 +7,12 @@
 
 #include "dorado/core/lie.hpp"
 #include "dorado/mapping/radar_mapper.hpp"
+#include "dorado/testing/mapper_input.hpp"
 #include "dorado/testing/street_scene.hpp"
 
 namespace dorado::mapping {
 namespace {
+using testing::PriorInput;
 
 using testing::MakeStreetWorld;
 using testing::RadarSimOptions;
@@ -19,6 +21,7 @@ using testing::SimulateScan;
 class KnownTransform : public ::testing::TestWithParam<std::tuple<RegistrationMethod, Refinement>> {
 };
 
+// One scan's input: the prior and the interval, no masks.
 TEST_P(KnownTransform, IsRecovered) {
     const auto [method, refinement] = GetParam();
     const Eigen::Matrix3Xd world = MakeStreetWorld(7);
@@ -56,8 +59,8 @@ TEST_P(KnownTransform, IsRecovered) {
     RadarMapper mapper(config, extrinsics);
     MotionPrior prior;  // identity, wide: registration has to find the whole transform
     prior.covariance = Matrix6d::Identity();
-    ASSERT_TRUE(mapper.Register(first, prior, 0.1).first_scan);
-    const RegistrationResult result = mapper.Register(copy, prior, 0.1);
+    ASSERT_TRUE(mapper.Register(first, PriorInput(prior, 0.1)).first_scan);
+    const RegistrationResult result = mapper.Register(copy, PriorInput(prior, 0.1));
 
     ASSERT_FALSE(result.fallback()) << ToString(result.fallback_cause);
     std::printf("%s: observability %.4f\n", ToString(method), result.observability);

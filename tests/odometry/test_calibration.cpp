@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <random>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 #include "dorado/odometry/calibration.hpp"
 
@@ -38,10 +39,10 @@ TEST_P(CalibrationSeeds, TwoStepRotationRecoversTheMounting) {
     const auto step2 = CalibrateRoll(free_drive, step1.R_base_radar);
     const double error = RotationAngle(step2.R_base_radar * kTrueR.transpose());
     std::printf("rotation error %.4f deg (step 1 sigma %.4f deg, step 2 sigma %.4f deg)\n",
-                error * 180 / M_PI, step1.sigma_rad * 180 / M_PI, step2.sigma_rad * 180 / M_PI);
+                RadToDeg(error), RadToDeg(step1.sigma_rad), RadToDeg(step2.sigma_rad));
     // Within 4 sigma of the reported uncertainties, and small in absolute terms.
     EXPECT_LT(error, 4.0 * std::hypot(step1.sigma_rad, step2.sigma_rad));
-    EXPECT_LT(error, 0.8 * M_PI / 180);
+    EXPECT_LT(error, DegToRad(0.8));
     // Forward axis from step 1 alone is already right.
     EXPECT_GT((step1.R_base_radar * kTrueR.transpose().col(0)).x(), 0.99999);
     EXPECT_NEAR(step1.rms_residual_mps, 0.02, 0.004);

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 #include "dorado/core/time.hpp"
 #include "dorado/odometry/doppler_odometry.hpp"
@@ -95,7 +96,7 @@ TEST(DopplerOdometry, NoisyDopplerStaysCloseToTheTruePose) {
     std::printf(
         "noisy Doppler: %.3f m position error after %.1f m, %.3f deg rotation error "
         "(predicted sigma %.3f deg)\n",
-        error, distance, rotation_error * 180 / M_PI, std::sqrt(rotation_var) * 180 / M_PI);
+        error, distance, RadToDeg(rotation_error), RadToDeg(std::sqrt(rotation_var)));
     EXPECT_LT(rotation_error, 4.0 * std::sqrt(rotation_var));
     EXPECT_LT(error, 0.03 * distance);
 }
@@ -124,8 +125,8 @@ TEST(DopplerOdometry, AngularRatePriorTamesAMountNearTheYIcrAxis) {
     const auto [raw_rotation, raw_translation] = run(false);
     const auto [rotation, translation] = run(true);
     std::printf("side mount, 5 s: rotation error %.2f deg raw, %.2f deg with the prior\n",
-                raw_rotation * 180 / M_PI, rotation * 180 / M_PI);
-    EXPECT_GT(raw_rotation, 5.0 * M_PI / 180);
+                RadToDeg(raw_rotation), RadToDeg(rotation));
+    EXPECT_GT(raw_rotation, DegToRad(5.0));
     EXPECT_LT(rotation, raw_rotation / 4);
     EXPECT_LT(translation, 0.05 * 5.0);
     EXPECT_LT(translation, raw_translation);

@@ -8,6 +8,7 @@
 #include <set>
 #include <string>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
 #include "dorado/testing/doppler_scan.hpp"
 
@@ -269,7 +270,7 @@ TEST(EgoVelocity, PreFiltersLabelPointsFiltered) {
     for (int i = 0; i < 4; ++i) EXPECT_EQ(r.labels[i], PointLabel::kFiltered) << i;
     for (int i = 0; i < o.points; ++i) {
         const double az = std::atan2(s.scan.xyz_radar(1, i), s.scan.xyz_radar(0, i));
-        if (i >= 4 && az <= 44.0 * M_PI / 180.0) {
+        if (i >= 4 && az <= DegToRad(44.0)) {
             EXPECT_EQ(r.labels[i], PointLabel::kStatic) << i;
         }
     }

@@ -8,6 +8,7 @@
 #include <limits>
 #include <random>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 #include "dorado/odometry/doppler_odometry.hpp"
 #include "dorado/odometry/ground_plane.hpp"
@@ -15,7 +16,7 @@
 namespace dorado::odometry {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+constexpr double kDeg = DegToRad(1.0);
 
 // The road 0.25 m below the base origin (the vehicle's base height, which the odometry copies
 // from VehicleGeometry).
@@ -296,7 +297,9 @@ TEST(GroundPlane, FirstGroundObservationSetsRollAndPitch) {
     extrinsics.T_base_radar.translation() = Eigen::Vector3d(0.72, 0.0, 0.38);
     DopplerOdometryConfig config;
     config.ground.enabled = true;
-    DopplerOdometry odometry(config, extrinsics, VehicleGeometry{0.256, KinematicModelNoise{}, VehicleModel::kAckermann, 0.25});
+    DopplerOdometry odometry(
+        config, extrinsics,
+        VehicleGeometry{0.256, KinematicModelNoise{}, VehicleModel::kAckermann, 0.25});
     Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
     start.linear() = RotationFromRollPitchYaw(Eigen::Vector3d(-2.0 * kDeg, 4.0 * kDeg, 0.5));
     odometry.SetInitialPose(start);

@@ -207,7 +207,7 @@ TEST(KinematicModel, PlausibleTwistCovarianceMatchesMonteCarloNearTheYIcrAxis) {
             RadarVelocity(e, g, 1.0 + gauss(rng), pitch_rate, yaw_rate, &v_base, &omega) +
             L * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
         const VehicleMotion motion = model.Motion(v_radar, cov_v_radar);
-        const VehicleTwist twist = model.PlausibleTwist(motion);
+        const Twist twist = model.PlausibleTwist(motion);
         Eigen::Matrix<double, 6, 1> err;
         err << twist.v_base_mps - v_base, twist.omega_base_radps - omega;
         scatter += err * err.transpose();
@@ -237,7 +237,7 @@ TEST(KinematicModel, PlausibleTwistKeepsAWellObservedTwist) {
     Eigen::Vector3d v_base, omega;
     const VehicleMotion motion = model.Motion(RadarVelocity(e, g, 5.0, 0.1, 0.4, &v_base, &omega),
                                               Eigen::Vector3d(1e-4, 1e-4, 4e-4).asDiagonal());
-    const VehicleTwist twist = model.PlausibleTwist(motion);
+    const Twist twist = model.PlausibleTwist(motion);
     for (int i = 1; i < 3; ++i)
         EXPECT_NEAR(twist.omega_base_radps[i], omega[i], 0.05 * std::abs(omega[i])) << i;
     EXPECT_LT((twist.v_base_mps - v_base).norm(), 0.01);

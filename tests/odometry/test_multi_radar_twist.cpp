@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/odometry/multi_radar_twist.hpp"
 #include "dorado/odometry/planar_ego_velocity.hpp"
 
@@ -16,7 +17,7 @@ namespace {
 Eigen::Isometry3d Mount(double x, double y, double yaw_deg) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.translation() << x, y, 0.5;
-    T.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).matrix();
+    T.linear() = Eigen::AngleAxisd(DegToRad(yaw_deg), Eigen::Vector3d::UnitZ()).matrix();
     return T;
 }
 

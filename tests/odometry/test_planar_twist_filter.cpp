@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/odometry/planar_ego_velocity.hpp"
 #include "dorado/odometry/planar_twist_filter.hpp"
 #include "dorado/testing/planar_rig.hpp"
@@ -44,8 +45,8 @@ FilterRun Drive(const testing::PlanarRig &rig, PlanarTwistFilterConfig config) {
     FilterRun run;
     run.yaw_rate_rms_radps = std::sqrt(sum / count);
     for (std::size_t k = 0; k < rig.published.size(); ++k) {
-        run.offsets_deg.push_back(filter.mount_yaw_offset_rad(k) * 180.0 / M_PI);
-        run.sigmas_deg.push_back(filter.mount_yaw_sigma_rad(k) * 180.0 / M_PI);
+        run.offsets_deg.push_back(RadToDeg(filter.mount_yaw_offset_rad(k)));
+        run.sigmas_deg.push_back(RadToDeg(filter.mount_yaw_sigma_rad(k)));
     }
     return run;
 }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/odometry/doppler_odometry.hpp"
 #include "dorado/odometry/kinematic_model.hpp"
 #include "dorado/odometry/vehicle_velocity_prior.hpp"
@@ -89,7 +90,7 @@ double FinalHeight(bool constrained) {
     double v_z_sum = 0.0;
     const int scans = 100;
     for (int k = 0; k <= scans; ++k) {
-        RadarScan scan = BiasedElevationScan(v_radar, 2.0 * M_PI / 180.0, 1000 + k);
+        RadarScan scan = BiasedElevationScan(v_radar, DegToRad(2.0), 1000 + k);
         scan.stamp_ns = k * 100'000'000LL;
         step = odometry.Register(scan);
         EXPECT_TRUE(step.ego.valid()) << Describe(step.ego);

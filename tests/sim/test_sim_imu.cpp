@@ -39,7 +39,7 @@ TEST(ImuModel, MeanGyroMatchesTrueAngularVelocity) {
         for (double t = t0; t < t0 + 2.0; t += 1.0 / config.imu.rate_hz, ++n) {
             const ImuSample s = imu.Measure(t, SecondsToNanos(t), vehicle);
             measured += R_base_imu * s.omega_imu_radps;
-            truth += vehicle.Twist(t).omega_base;
+            truth += vehicle.Twist(t).omega_base_radps;
         }
         measured /= n;
         truth /= n;
@@ -59,7 +59,7 @@ TEST(ImuModel, BiasShiftsTheMeanByTheBias) {
     int n = 0;
     for (double t = 5.0; t < 15.0; t += 0.005, ++n) {
         error += imu.Measure(t, SecondsToNanos(t), vehicle).omega_imu_radps -
-                 R_imu_base * vehicle.Twist(t).omega_base;
+                 R_imu_base * vehicle.Twist(t).omega_base_radps;
     }
     error /= n;
     EXPECT_GT(imu.gyro_bias().norm(), 1e-3);

@@ -29,13 +29,13 @@ TEST(VehicleTrajectory, FlatGroundFollowsTheIcrConstraint) {
     const VehicleTrajectory vehicle(config, terrain);
     double max_speed = 0.0, max_yaw_rate = 0.0;
     for (double t = 0.05; t < config.duration_s - 0.05; t += 0.137) {
-        const BaseTwist twist = vehicle.Twist(t);
-        EXPECT_NEAR(twist.v_base.y(), -twist.omega_base.z() * 0.12, 1e-5) << "t = " << t;
-        EXPECT_NEAR(twist.v_base.z(), 0.0, 1e-6);
-        EXPECT_NEAR(twist.omega_base.x(), 0.0, 1e-6);
-        EXPECT_NEAR(twist.omega_base.y(), 0.0, 1e-6);
-        max_speed = std::max(max_speed, std::abs(twist.v_base.x()));
-        max_yaw_rate = std::max(max_yaw_rate, std::abs(twist.omega_base.z()));
+        const Twist twist = vehicle.Twist(t);
+        EXPECT_NEAR(twist.v_base_mps.y(), -twist.omega_base_radps.z() * 0.12, 1e-5) << "t = " << t;
+        EXPECT_NEAR(twist.v_base_mps.z(), 0.0, 1e-6);
+        EXPECT_NEAR(twist.omega_base_radps.x(), 0.0, 1e-6);
+        EXPECT_NEAR(twist.omega_base_radps.y(), 0.0, 1e-6);
+        max_speed = std::max(max_speed, std::abs(twist.v_base_mps.x()));
+        max_yaw_rate = std::max(max_yaw_rate, std::abs(twist.omega_base_radps.z()));
     }
     // The check above must not pass vacuously on a vehicle that stands still.
     EXPECT_GT(max_speed, 0.5);
@@ -54,14 +54,14 @@ TEST(VehicleTrajectory, TwistIntegratesToPoseOnHills) {
     constexpr double dt = 1e-3;
     double max_pitch_rate = 0.0;
     for (double t = 2.0; t < 19.0; t += 0.5) {
-        const BaseTwist twist = vehicle.Twist(t + 0.5 * dt);
+        const Twist twist = vehicle.Twist(t + 0.5 * dt);
         Vector6d xi;
-        xi << twist.v_base * dt, twist.omega_base * dt;
+        xi << twist.v_base_mps * dt, twist.omega_base_radps * dt;
         const Eigen::Isometry3d predicted = vehicle.Pose(t) * ExpSE3(xi);
         const Eigen::Isometry3d actual = vehicle.Pose(t + dt);
         EXPECT_LT((predicted.translation() - actual.translation()).norm(), 1e-6);
         EXPECT_LT(RotationAngle(predicted.linear().transpose() * actual.linear()), 1e-7);
-        max_pitch_rate = std::max(max_pitch_rate, std::abs(twist.omega_base.y()));
+        max_pitch_rate = std::max(max_pitch_rate, std::abs(twist.omega_base_radps.y()));
     }
     EXPECT_GT(max_pitch_rate, 0.01);  // the hills do pitch the vehicle
 }

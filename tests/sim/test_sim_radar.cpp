@@ -50,9 +50,9 @@ class RadarModelTest : public ::testing::Test {
     SimulatedScan Scan(double t, Eigen::Vector3d &v_radar, uint64_t seed = 1) const {
         const Eigen::Isometry3d T_base_radar = config_.radar.mount.Transform();
         const Eigen::Isometry3d T_world_base = vehicle_->Pose(t);
-        const BaseTwist twist = vehicle_->Twist(t);
+        const Twist twist = vehicle_->Twist(t);
         const Eigen::Vector3d v_base_radar =
-            twist.v_base + twist.omega_base.cross(T_base_radar.translation());
+            twist.v_base_mps + twist.omega_base_radps.cross(T_base_radar.translation());
         v_radar = T_base_radar.linear().transpose() * v_base_radar;
         std::mt19937_64 rng(seed);
         return radar_->Measure(t, T_world_base * T_base_radar, T_world_base.linear() * v_base_radar,

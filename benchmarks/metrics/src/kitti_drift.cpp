@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "dorado/core/angles.hpp"
+
 namespace dorado::eval {
 
 DriftResult ComputeKittiDrift(const AssociatedPoses &poses, const DriftConfig &config) {
@@ -15,9 +17,9 @@ DriftResult ComputeKittiDrift(const AssociatedPoses &poses, const DriftConfig &c
     // Path length of the reference up to each pose (the devkit's trajectoryDistances).
     std::vector<double> distance(n, 0.0);
     for (std::size_t k = 1; k < n; ++k)
-        distance[k] = distance[k - 1] + (poses.T_world_ref[k].translation() -
-                                         poses.T_world_ref[k - 1].translation())
-                                            .norm();
+        distance[k] =
+            distance[k - 1] +
+            (poses.T_world_ref[k].translation() - poses.T_world_ref[k - 1].translation()).norm();
     DriftResult result;
     double sum_t = 0.0, sum_r = 0.0;
     for (std::size_t first = 0; first < n; first += config.step_frames) {
@@ -39,7 +41,7 @@ DriftResult ComputeKittiDrift(const AssociatedPoses &poses, const DriftConfig &c
     }
     if (result.segments > 0) {
         result.translation_percent = 100.0 * sum_t / result.segments;
-        result.rotation_deg_per_100m = 100.0 * 180.0 / M_PI * sum_r / result.segments;
+        result.rotation_deg_per_100m = 100.0 * RadToDeg(sum_r) / result.segments;
     }
     return result;
 }

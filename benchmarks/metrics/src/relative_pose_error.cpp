@@ -4,14 +4,13 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 #include "dorado/core/time.hpp"
 
 namespace dorado::eval {
 
 namespace {
-
-constexpr double kRadToDeg = 180.0 / M_PI;
 
 std::vector<PosePair> PairsByFrames(std::size_t n, std::size_t delta) {
     std::vector<PosePair> pairs;
@@ -131,7 +130,7 @@ RelativeErrors ComputeRpe(const AssociatedPoses &poses, const std::vector<PosePa
         out.stamp_j_ns.push_back(poses.stamps_ns[pair.j]);
         out.translation_m.push_back(E.translation().norm());
         // Angle of the rotation vector (quaternion route), as evo's so3_log_angle: accurate near 0.
-        const Eigen::Vector3d rotation_vector = LogSO3(E.linear()) * kRadToDeg;
+        const Eigen::Vector3d rotation_vector = RadToDeg(LogSO3(E.linear()));
         out.rotation_deg.push_back(rotation_vector.norm());
         out.roll_deg.push_back(std::abs(rotation_vector.x()));
         out.pitch_deg.push_back(std::abs(rotation_vector.y()));

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "dorado/config/map_config.hpp"
+#include "dorado/core/angles.hpp"
 #include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/io/dataset.hpp"
 #include "dorado/io/dataset_config.hpp"
@@ -138,7 +139,7 @@ int main(int argc, char **argv) {
         const double expected_x = kSpeedMps * kDtS * (kScans - 1);
         const Eigen::Vector3d t = last.translation();
         const double heading_deg =
-            std::atan2(last.linear()(1, 0), last.linear()(0, 0)) * 180.0 / M_PI;
+            dorado::RadToDeg(std::atan2(last.linear()(1, 0), last.linear()(0, 0)));
         std::printf(
             "scans %d (registered %d, steps backwards %d): last pose x %.3f m (expected "
             "%.3f), y %.3f, z %.3f, heading %.2f deg\n",

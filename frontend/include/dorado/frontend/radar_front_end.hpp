@@ -23,6 +23,7 @@
 #include "dorado/core/lie.hpp"
 #include "dorado/core/radar_scan.hpp"
 #include "dorado/core/trajectory.hpp"
+#include "dorado/core/twist.hpp"
 #include "dorado/mapping/motion_prior.hpp"
 #include "dorado/mapping/radar_mapper.hpp"
 #include "dorado/odometry/doppler_odometry.hpp"
@@ -90,7 +91,7 @@ struct FrontEndResult {
     Eigen::Isometry3d T_world_base_odometry = Eigen::Isometry3d::Identity();
     /// The twist integrated by the odometry, in the base frame, with the joint covariance of
     /// [v_base; omega_base] (eq. 7 plus the kinematic model's own error).
-    odometry::VehicleTwist twist_base;
+    Twist twist_base;
     /// The odometry's step (ego-velocity, eq. 5 motion, fallback), as dorado odometry reports it.
     odometry::OdometryStep odometry;
     /// The mean gyro rate over the scan interval in the base frame (NaN without IMU samples).

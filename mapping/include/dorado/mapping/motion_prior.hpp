@@ -11,6 +11,7 @@
 
 #include "dorado/core/imu.hpp"
 #include "dorado/core/lie.hpp"
+#include "dorado/core/twist.hpp"
 
 namespace dorado::mapping {
 
@@ -53,15 +54,6 @@ struct MotionPrior {
     PriorKind kind = PriorKind::kNone;
 };
 
-/// Velocity of the base frame, expressed in the base frame, with its covariance (as the Doppler
-/// odometry's kinematic model gives it, paper eq. 6-7 and 9).
-struct BaseTwist {
-    Eigen::Vector3d v_base_mps = Eigen::Vector3d::Zero();
-    Eigen::Vector3d omega_base_radps = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d cov_v_base = Eigen::Matrix3d::Identity();
-    Eigen::Matrix3d cov_omega_base = Eigen::Matrix3d::Identity();
-};
-
 /// How the `doppler` and `imu+doppler` priors turn the scans' twists into the interval's motion:
 /// - kEndpoint: this scan's twist held over the interval (the paper's and `dorado odometry`'s
 ///   dead reckoning): errs by about a dt^2 / 2 under an acceleration a;
@@ -77,7 +69,7 @@ enum class TwistIntegration { kEndpoint, kTrapezoid };
 /// intervals share a scan, so their errors are correlated and n intervals sum to about n times
 /// this covariance, as with the end's twist alone (the fusion's gain depends on that sum; with
 /// / 4 the map's rotation drift per second grew 16 %, benchmark_prior_integration.yaml).
-[[nodiscard]] BaseTwist TrapezoidTwist(const BaseTwist &at_start, const BaseTwist &at_end);
+[[nodiscard]] Twist TrapezoidTwist(const Twist &at_start, const Twist &at_end);
 
 /// Noise levels of the priors. Defaults are for a car-like vehicle at 10-20 Hz; see
 /// configs/mapper.yaml.
@@ -137,16 +129,18 @@ struct PriorNoiseConfig {
     int64_t t0_ns, int64_t t1_ns, const Eigen::Isometry3d &T_base_imu,
     const PriorNoiseConfig &noise);
 
-/// `doppler` (the paper): constant base twist from the Doppler odometry over dt_s,
-/// T = T_prev * ExpSE3([v; omega] dt), covariance blockdiag(cov_v, cov_omega) dt^2 with floors.
+/// `doppler` (the paper): constant base twist from the Doppler odometry (as its kinematic model
+/// gives it, paper eq. 6-7 and 9) over dt_s, T = T_world_base_prev * ExpSE3([v; omega] dt),
+/// covariance blockdiag(C_v, C_omega) dt^2 with floors (the twist's diagonal blocks: the prior
+/// drops the v-omega cross-covariance).
 [[nodiscard]] MotionPrior PriorFromDoppler(const Eigen::Isometry3d &T_world_base_prev,
-                                           const BaseTwist &twist, double dt_s,
+                                           const Twist &twist, double dt_s,
                                            const PriorNoiseConfig &noise);
 
 /// `imu+doppler` (the paper's I+D): rotation rate from the mean gyro over (t0_ns, t1_ns], rotated
 /// into the base frame; translation velocity from the Doppler odometry. Empty without IMU samples.
 [[nodiscard]] std::optional<MotionPrior> PriorFromImuAndDoppler(
-    const Eigen::Isometry3d &T_world_base_prev, const BaseTwist &twist,
+    const Eigen::Isometry3d &T_world_base_prev, const Twist &twist,
     const std::vector<ImuSample> &samples, int64_t t0_ns, int64_t t1_ns,
     const Eigen::Isometry3d &T_base_imu, double dt_s, const PriorNoiseConfig &noise);
 

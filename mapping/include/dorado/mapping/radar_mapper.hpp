@@ -199,7 +199,7 @@ struct RegistrationResult {
         0.0;                   ///< of the registered pose (prior + registration noise)
     double threshold_m = 0.0;  ///< correspondence threshold used
     int doppler_residuals = 0;
-    /// The scan's ground (Register's ground_base) joined the refinement (refinement ceres or
+    /// The scan's ground (MapperInput::ground_base) joined the refinement (refinement ceres or
     /// filter, 3-D, registered, and consistent with the prior).
     bool ground_used = false;
     bool map_updated = false;
@@ -240,10 +240,11 @@ struct MapperInput {
     /// true = seen moving (the Doppler mask's outliers): kept out with their neighbours and
     /// remembered in the map (movers.hpp). Empty: none.
     PointMask moving_mask;
-    /// The interval's mean gyro rate in the base frame (the window smoother's gyro factor).
+    /// The interval's mean gyro rate in the base frame (the window smoother's gyro factor; other
+    /// refinements ignore it).
     std::optional<Eigen::Vector3d> gyro_base_radps;
     /// The road's up-vector seen in this scan: holds the refined poses' roll and pitch with
-    /// refinement ceres and filter in 3-D.
+    /// refinement ceres and filter in 3-D (not in planar mode, not with none or window).
     std::optional<GroundUp> ground_base;
 };
 
@@ -257,20 +258,9 @@ class RadarMapper {
     RadarMapper(RadarMapper &&) noexcept;
     RadarMapper &operator=(RadarMapper &&) noexcept;
 
-    /// Registers one scan (radar frame). dt_s is the time since the previous registered scan (the
-    /// interval over which the Doppler residuals compare the pose's velocity). With static_mask,
-    /// only points flagged true are registered, used as Doppler residuals and added to the map.
-    /// gyro_base_radps (the interval's mean gyro rate in the base frame) feeds the window
-    /// smoother's gyro factor; other refinements ignore it. ground_base (the road's up-vector seen
-    /// in this scan) holds the refined poses' roll and pitch with refinement ceres and filter in
-    /// 3-D (not in planar mode, not with none or window). Throws std::invalid_argument on a mask
-    /// of the wrong size or a non-finite dt.
-    RegistrationResult Register(const RadarScan &scan_radar, const MotionPrior &prior, double dt_s,
-                                const PointMask *static_mask = nullptr,
-                                const Eigen::Vector3d *gyro_base_radps = nullptr,
-                                const GroundUp *ground_base = nullptr);
-    /// Registers one scan (radar frame) with its inputs. Throws std::invalid_argument on a mask
-    /// of the wrong size, a non-finite dt or prior.
+    /// Registers one scan (radar frame) with its inputs (MapperInput: the prior, dt, the masks,
+    /// the gyro rate and the ground). Throws std::invalid_argument on a mask of the wrong size, a
+    /// non-finite dt or prior.
     RegistrationResult Register(const RadarScan &scan_radar, const MapperInput &input);
 
     [[nodiscard]] const LocalMap &local_map() const;

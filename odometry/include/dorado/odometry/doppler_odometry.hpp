@@ -92,7 +92,7 @@ struct OdometryStep {
     /// Covariance of [v_base_used; omega_base_used]: eq. (7) plus the kinematic model's own error
     /// (the angular-rate prior's posterior when angular_rate_prior is on); with the gyro
     /// (kImuDoppler), eq. (7)'s blocks. Zero for a fallback twist.
-    Eigen::Matrix<double, 6, 6> covariance_used = Eigen::Matrix<double, 6, 6>::Zero();
+    Matrix6d covariance_used = Matrix6d::Zero();
     bool used_fallback = false;
     FallbackCause fallback_cause = FallbackCause::kNone;  ///< kNone iff !used_fallback
     std::string fallback_reason;                          ///< the cause in words, with numbers

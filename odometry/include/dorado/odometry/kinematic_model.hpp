@@ -6,6 +6,8 @@
 #include <Eigen/Core>
 
 #include "dorado/core/extrinsics.hpp"
+#include "dorado/core/lie.hpp"
+#include "dorado/core/twist.hpp"
 
 namespace dorado::odometry {
 
@@ -20,15 +22,7 @@ struct VehicleMotion {
     /// Covariance of the model's own error (the vehicle breaking the constraints, see
     /// KinematicModelNoise), of [v_base; omega_base]: add it to the blocks above for an honest
     /// total. Zero when the geometry's model_noise is zero.
-    Eigen::Matrix<double, 6, 6> cov_model = Eigen::Matrix<double, 6, 6>::Zero();
-};
-
-/// The vehicle's twist with everything known about it, and the joint covariance of
-/// [v_base; omega_base].
-struct VehicleTwist {
-    Eigen::Vector3d v_base_mps = Eigen::Vector3d::Zero();
-    Eigen::Vector3d omega_base_radps = Eigen::Vector3d::Zero();
-    Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+    Matrix6d cov_model = Matrix6d::Zero();
 };
 
 /// The paper's kinematic constraints, in the base frame (X forward, Y left, Z up, origin at the
@@ -72,7 +66,7 @@ class KinematicModel {
     /// eq. (5) is well conditioned this moves a rate by a few percent of itself at most; where it
     /// is not (a radar near an ICR axis) it keeps the poorly observed rate, and the base velocity
     /// that depends on it through the lever arm, from taking absurd values.
-    [[nodiscard]] VehicleTwist PlausibleTwist(const VehicleMotion &motion) const;
+    [[nodiscard]] Twist PlausibleTwist(const VehicleMotion &motion) const;
 
     /// d v_base / d v_radar (constant: the model is linear in v_radar).
     [[nodiscard]] const Eigen::Matrix3d &VelocityJacobian() const { return J_v_base_; }
@@ -101,8 +95,8 @@ class KinematicModel {
 
   private:
     void BuildJacobians();
-    [[nodiscard]] Eigen::Matrix<double, 6, 6> ModelCovariance(
-        const Eigen::Vector3d &v_base, const Eigen::Vector3d &omega_base) const;
+    [[nodiscard]] Matrix6d ModelCovariance(const Eigen::Vector3d &v_base,
+                                           const Eigen::Vector3d &omega_base) const;
 
     Eigen::Matrix3d R_base_radar_;
     Eigen::Vector3d p_base_radar_;  ///< s, the radar position in the base frame

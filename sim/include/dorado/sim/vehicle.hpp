@@ -8,16 +8,11 @@
 #include <Eigen/Geometry>
 #include <vector>
 
+#include "dorado/core/twist.hpp"
 #include "dorado/sim/sequence_config.hpp"
 #include "dorado/sim/terrain.hpp"
 
 namespace dorado::sim {
-
-/// The base frame's velocity at one instant, in the base frame.
-struct BaseTwist {
-    Eigen::Vector3d v_base = Eigen::Vector3d::Zero();      ///< [m/s]
-    Eigen::Vector3d omega_base = Eigen::Vector3d::Zero();  ///< [rad/s]
-};
 
 class VehicleTrajectory {
   public:
@@ -26,8 +21,9 @@ class VehicleTrajectory {
 
     /// T_world_base at t seconds after the start (clamped to [0, duration]).
     [[nodiscard]] Eigen::Isometry3d Pose(double t) const;
-    /// Velocity of the base frame at t (central differences of Pose; error ~1e-7).
-    [[nodiscard]] BaseTwist Twist(double t) const;
+    /// Velocity of the base frame at t (central differences of Pose; error ~1e-7; exact: zero
+    /// covariance).
+    [[nodiscard]] dorado::Twist Twist(double t) const;
     /// Acceleration [m/s^2] in the world frame of the point p_base fixed on the vehicle.
     [[nodiscard]] Eigen::Vector3d PointAccelerationWorld(double t,
                                                          const Eigen::Vector3d &p_base) const;

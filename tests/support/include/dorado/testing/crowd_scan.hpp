@@ -13,6 +13,7 @@
 #include <random>
 #include <vector>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/testing/doppler_scan.hpp"
 
 namespace dorado::testing {
@@ -48,7 +49,7 @@ struct Mover {
 };
 
 inline Eigen::Vector3d Direction(double az_deg, double el_deg) {
-    const double a = az_deg * M_PI / 180.0, e = el_deg * M_PI / 180.0;
+    const double a = DegToRad(az_deg), e = DegToRad(el_deg);
     return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
 }
 
@@ -76,7 +77,7 @@ inline CrowdScene MakeCrowdScan(const CrowdOptions &o) {
         m.azimuth_deg = uni(-0.8, 0.8) * o.azimuth_half_fov_deg;
         m.range_m = uni(6.0, 50.0);
         m.width_deg = (k == 0 ? 20.0 : 6.0) * 10.0 / m.range_m + 2.0;  // the first one is big
-        m.elevation_deg = std::atan2(1.0 - o.sensor_height_m, m.range_m) * 180.0 / M_PI;
+        m.elevation_deg = RadToDeg(std::atan2(1.0 - o.sensor_height_m, m.range_m));
         m.share = k == 0 ? 3.0 : uni(0.5, 1.5);
         share_sum += m.share;
     }
@@ -86,7 +87,7 @@ inline CrowdScene MakeCrowdScan(const CrowdOptions &o) {
     const int n_ghost = static_cast<int>(std::round(ghost_fraction * n));
     const int n_static = n - n_mover - n_clutter - n_ghost;
     const int n_ground = static_cast<int>(0.55 * n_static);  // ground-heavy
-    const double tan_fov = std::tan(o.elevation_half_fov_deg * M_PI / 180.0);
+    const double tan_fov = std::tan(DegToRad(o.elevation_half_fov_deg));
 
     auto &s = out.scan;
     s.scan.Resize(n);
@@ -115,7 +116,7 @@ inline CrowdScene MakeCrowdScan(const CrowdOptions &o) {
             case CrowdPointKind::kGround: {
                 const double r_min = o.sensor_height_m / tan_fov;
                 range = r_min + (40.0 - r_min) * std::pow(u01(rng), 2.0);  // dense near
-                const double el = -std::asin(o.sensor_height_m / range) * 180.0 / M_PI;
+                const double el = -RadToDeg(std::asin(o.sensor_height_m / range));
                 d = detail::Direction(az, el + 0.3 * gauss(rng));
                 power = uni(-2.0, 18.0);  // grazing: weak
                 break;

@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/radar_scan.hpp"
 
 namespace dorado::testing {
@@ -41,7 +42,7 @@ inline SyntheticScan MakeScan(const SceneOptions &o) {
     std::mt19937_64 rng(o.seed);
     std::uniform_real_distribution<double> uni(-1.0, 1.0), range(2.0, 80.0), power(0.0, 40.0);
     std::normal_distribution<double> gauss(0.0, 1.0);
-    const double deg = M_PI / 180.0;
+    const double deg = DegToRad(1.0);
     const int n = o.points;
     const int n_dynamic = static_cast<int>(std::round(o.dynamic_fraction * n));
     // Random objects: 6 of them, each with its own velocity and sector.

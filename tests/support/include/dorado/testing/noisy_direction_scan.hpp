@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/radar_scan.hpp"
 
 namespace dorado::testing {
@@ -33,7 +34,7 @@ inline NoisyDirectionScan MakeNoisyDirectionScan(const NoisyDirectionOptions &o)
     std::mt19937_64 rng(o.seed);
     std::uniform_real_distribution<double> uni(0.0, 1.0);
     std::normal_distribution<double> gauss(0.0, 1.0);
-    const double deg = M_PI / 180.0;
+    const double deg = DegToRad(1.0);
     NoisyDirectionScan out;
     out.scan.Resize(o.points);
     out.scan.has_power = false;

@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "dorado/core/angles.hpp"
 #include "dorado/core/radar_scan.hpp"
 
 namespace dorado::testing {
@@ -17,7 +18,7 @@ namespace dorado::testing {
 inline Eigen::Isometry3d PlanarMount(double x, double y, double yaw_deg) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.translation() << x, y, 0.0;
-    T.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).matrix();
+    T.linear() = Eigen::AngleAxisd(DegToRad(yaw_deg), Eigen::Vector3d::UnitZ()).matrix();
     return T;
 }
 
@@ -69,7 +70,7 @@ struct PlanarRig {
         Eigen::Isometry3d T = published[k];
         T.linear() =
             T.linear() *
-            Eigen::AngleAxisd(yaw_offset_deg[k] * M_PI / 180.0, Eigen::Vector3d::UnitZ()).matrix();
+            Eigen::AngleAxisd(DegToRad(yaw_offset_deg[k]), Eigen::Vector3d::UnitZ()).matrix();
         return T;
     }
     /// Radar k's scan at time t (its own frame, z = 0), with Doppler noise.
@@ -88,7 +89,7 @@ struct PlanarRig {
             const Eigen::Vector3d p = T_radar_world * Eigen::Vector3d(l.x(), l.y(), 0.0);
             const double r = p.head<2>().norm();
             if (r < 1.0 || r > max_range_m) continue;
-            if (std::abs(std::atan2(p.y(), p.x())) > half_fov_deg * M_PI / 180.0) continue;
+            if (std::abs(std::atan2(p.y(), p.x())) > DegToRad(half_fov_deg)) continue;
             points.emplace_back(p.x(), p.y(), 0.0);
         }
         RadarScan scan;
