@@ -78,7 +78,7 @@ void PrintTopics(const std::vector<io::TopicSummary> &topics, const io::DatasetC
 // The `radars:` list (several radars on one vehicle): each one's mount and scans.
 void PrintRadars(const io::DatasetConfig &config, ProblemLog &problems) {
     if (config.radars.empty()) return;
-    std::printf("radars: %zu (the radars: list; dorado twist reads them all)\n",
+    std::printf("radars: %zu (the radars: list; dorado map and dorado twist read them all)\n",
                 config.radars.size());
     for (std::size_t k = 0; k < config.radars.size(); ++k) {
         const io::RadarStream &radar = config.radars[k];
