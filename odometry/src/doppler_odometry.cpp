@@ -133,7 +133,7 @@ EgoVelocityResult DopplerOdometry::EstimateVelocity(const RadarScan &scan_radar)
         ego = estimator_.Estimate(scan_radar);
     }
     last_velocity_.reset();
-    if (ego.valid()) {
+    if (ego.valid() && config_.max_acceleration_mps2 > 0.0) {
         // The ball starts at the velocity's own 3 sigma (its largest direction).
         const double variance_max =
             Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(ego.cov_v_radar, Eigen::EigenvaluesOnly)
