@@ -48,7 +48,8 @@ constexpr const char *kCsvHeader =
     "cov_omega_model_xz,cov_omega_model_yy,cov_omega_model_yz,cov_omega_model_zz,fallback_cause,"
     "zero_velocity_update,"
     "ground_valid,ground_reason,ground_roll_deg,ground_pitch_deg,ground_inliers,"
-    "ground_correction_roll_deg,ground_correction_pitch_deg,ground_residual_m,ground_chi2\n";
+    "ground_correction_roll_deg,ground_correction_pitch_deg,ground_residual_m,ground_chi2,"
+    "velocity_prediction\n";
 
 // The ground-plane attitude columns (ground.enabled; the reason names a scan without ground).
 void AppendGround(std::ostream &row, const odometry::GroundAttitudeStep &g) {
@@ -84,7 +85,8 @@ std::string CsvRow(const odometry::OdometryStep &step, Eigen::Index points,
     row << ',' << odometry::ToString(step.fallback_cause) << ','
         << (step.zero_velocity_update ? 1 : 0);
     AppendGround(row, step.ground);
-    row << '\n';
+    // odometry.max_acceleration_mps2: was RANSAC held near the previous velocity (none when off).
+    row << ',' << odometry::ToString(e.prediction) << '\n';
     return row.str();
 }
 
@@ -144,6 +146,7 @@ void RunOdometry(const OdometryOptions &opt) {
     std::string csv = kCsvHeader;
     std::vector<double> times_ms, inlier_ratios;
     std::map<odometry::FallbackCause, int> fallback_causes;
+    std::map<odometry::PredictionUse, int> predictions;
     std::map<odometry::EgoVelocityFailure, int> invalid_reasons;
     std::map<odometry::EgoVelocityFailure, std::string> first_invalid;  // each's first, once
     std::size_t fallbacks = 0, zero_velocity_updates = 0;
@@ -158,6 +161,7 @@ void RunOdometry(const OdometryOptions &opt) {
             fallbacks += step.used_fallback;
             zero_velocity_updates += step.zero_velocity_update;
             if (step.used_fallback) fallback_causes[step.fallback_cause]++;
+            predictions[step.ego.prediction]++;
             if (config.odometry.ground.enabled && step.integrated) {
                 const auto &ground = step.ground.observation;
                 ground_scans += ground.valid;
@@ -191,6 +195,8 @@ void RunOdometry(const OdometryOptions &opt) {
         // by cause (odometry::FallbackCause): they add up to scans_with_fallback_twist
         {"fallback_causes", CountsByKey(fallback_causes)},
         {"scans_zero_velocity_update", zero_velocity_updates},
+        // odometry.max_acceleration_mps2: scans by what the held RANSAC did (none: not held)
+        {"velocity_prediction", CountsByKey(predictions)},
         {"invalid_velocity_reasons", CountsByKey(invalid_reasons)},
         {"inlier_ratio", Stats(inlier_ratios)},
         {"time_per_scan_ms", Stats(times_ms)},

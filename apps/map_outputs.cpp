@@ -93,6 +93,7 @@ void MapOutputs::Add(const frontend::FrontEndResult &result) {
     if (result.prior_substitution != frontend::PriorSubstitution::kNone)
         prior_substitutions_[substitution]++;
     if (result.static_mask.size() == 0) ++unmasked_;
+    predictions_[result.odometry.ego.prediction]++;
     const std::pair<const char *, double> stages[] = {{"doppler", t.doppler_ms},
                                                       {"prior", t.prior_ms},
                                                       {"preprocess", t.mapper.preprocess_ms},
@@ -157,6 +158,7 @@ nlohmann::json MapOutputs::Summary() const {
             {"prior_substitutions_constvel",
              CountsByKey(prior_substitutions_, frontend::SubstitutionKey)},
             {"scans_without_mask", unmasked_},
+            {"velocity_prediction", CountsByKey(predictions_)},
             {"mover_points_dropped", mover_points_dropped_},
             {"map_points_dropped", map_points_dropped_},
             {"noise_scales",

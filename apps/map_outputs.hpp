@@ -50,6 +50,7 @@ class MapOutputs {
     static constexpr double kYoungMapS = 5.0;  ///< fallbacks in the map's first seconds, apart
     std::map<mapping::FallbackCause, int> fallback_reasons_, young_map_fallback_reasons_;
     std::map<frontend::SubstitutionCause, int> prior_substitutions_;
+    std::map<odometry::PredictionUse, int> predictions_;  ///< scans by the held RANSAC's use
     int fallbacks_ = 0, unmasked_ = 0, scans_ = 0;
     long long mover_points_dropped_ = 0, map_points_dropped_ = 0;
     mapping::NoiseScales noise_scales_;  ///< after the last scan

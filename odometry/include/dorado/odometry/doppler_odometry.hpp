@@ -61,10 +61,11 @@ struct DopplerOdometryConfig {
     /// are held within (this * dt + 3 sigma of the previous velocity) of the previous scan's
     /// velocity, so that a crowd moving together cannot take the scan by a jump no vehicle makes
     /// (EgoVelocityEstimator::Estimate with a VelocityPrediction). Only after a scan with a valid
-    /// velocity; a scan nothing inside explains is estimated without it. 0 = off, the default:
-    /// at 10 on xsim seeds 100-102 it repairs flat_fast s101's map (1.87 -> 0.08 m) but breaks
-    /// rotated_mount s101's (1.06 -> 9.64 m), pooled 0.56 -> 0.99 m (docs/design/covariance.md).
-    double max_acceleration_mps2 = 0.0;
+    /// velocity; a scan nothing inside explains is estimated without it. 0 = off. 10 by default:
+    /// with the online calibration's gate at chi^2 6.63 the doppler-prior maps' ATE goes
+    /// 0.564 -> 0.385 m pooled over xsim seeds 100-102 (flat_fast s101 1.87 -> 0.09 m) and
+    /// 0.261 -> 0.245 m over 20 built-in runs (docs/robust_mapping.md).
+    double max_acceleration_mps2 = 10.0;
     /// Integrate KinematicModel::PlausibleTwist (eq. 5 combined with the vehicle's angular-rate
     /// prior) instead of eq. (5)'s twist as is. They agree to a few percent where eq. (5) is well
     /// conditioned; near an ICR axis (a side mount) the raw pitch or yaw rate is noise.
