@@ -51,7 +51,7 @@ nlohmann::json MapRunSummary(const std::string &dataset_name,
             {"stopped_early", stopped.empty() ? nlohmann::json() : nlohmann::json(stopped)}};
 }
 
-MapOutputs::MapOutputs(double map_cell_m) : csv_(kCsvHeader), map_cell_m_(map_cell_m) {}
+MapOutputs::MapOutputs(double map_cell_m) : map_cell_m_(map_cell_m), csv_(kCsvHeader) {}
 
 Eigen::Matrix3Xd MapOutputs::MapPoints() const {
     Eigen::Matrix3Xd points(3, static_cast<Eigen::Index>(map_point_count_));
