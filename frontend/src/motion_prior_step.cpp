@@ -63,82 +63,35 @@ Twist RadarFrontEnd::State::IntervalTwist(const odometry::OdometryStep &step) co
 
 BuiltPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometryStep &step, int64_t stamp_ns,
                                             double dt_s, bool twist_discontinuous) const {
-    using mapping::PriorKind;
-    const PriorKind kind = config.prior;
-    BuiltPrior out;
-    out.requested = kind;
-    out.used = kind;
-    if (scans_since_reset == 0) {  // the first scan defines the world
-        out.prior.T_world_base = T_world_base_initial;
-        out.prior.covariance = Matrix6d::Identity() * 1e-6;
-        out.prior.kind = kind;  // unused: the first scan starts the map
-        out.first_scan = true;
-        return out;
+    PriorInputs in;
+    in.kind = config.prior;
+    in.poses = scans_since_reset;
+    in.T_world_base_first = T_world_base_initial;
+    in.T_world_base_prev = T_world_base_prev;
+    in.T_world_base_prev2 = T_world_base_prev2;
+    in.last_stamp_ns = last_stamp_ns;
+    in.stamp_ns = stamp_ns;
+    in.last_dt_s = last_dt_s;
+    in.dt_s = dt_s;
+    // The odometry's twist honours every odometry setting; a fallback twist (no valid velocity,
+    // an implausible angular rate) is not a measurement.
+    using odometry::FallbackCause;
+    if (step.fallback_cause == FallbackCause::kInvalidVelocity) {
+        in.refused = PriorSubstitution::kInvalidDopplerVelocity;
+        in.refused_detail = step.ego.failure_detail;
+    } else if (twist_discontinuous) {
+        in.refused = PriorSubstitution::kDiscontinuousTwist;
+    } else if (step.fallback_cause == FallbackCause::kAngularRateLimit) {
+        in.refused = PriorSubstitution::kAngularRateLimit;
+    } else if (step.fallback_cause == FallbackCause::kNoImuSamples) {
+        in.refused = PriorSubstitution::kNoImuSamples;
+    } else {
+        in.interval_twist = IntervalTwist(step);
     }
-    const bool has_two = scans_since_reset >= 2 && last_dt_s > 0.0;
-    const mapping::PriorNoiseConfig &noise = config.prior_noise;
-    auto constvel = [&] {
-        return has_two ? mapping::PriorConstantVelocity(T_world_base_prev2, T_world_base_prev,
-                                                        last_dt_s, dt_s, noise)
-                       : mapping::PriorFromPreviousPose(T_world_base_prev, noise);
-    };
-    std::optional<mapping::MotionPrior> built;
-    PriorSubstitution why_not = PriorSubstitution::kNone;
-    const std::vector<ImuSample> imu_samples = gyro_bias.Corrected(imu.samples());
-    switch (kind) {
-        case PriorKind::kNone:
-            built = mapping::PriorFromPreviousPose(T_world_base_prev, noise);
-            break;
-        case PriorKind::kConstVel:
-            built = constvel();
-            break;
-        case PriorKind::kImu: {
-            std::optional<Eigen::Vector3d> v_world;  // unknown from one pose
-            if (has_two)
-                v_world = (T_world_base_prev.translation() - T_world_base_prev2.translation()) /
-                          last_dt_s;
-            built = mapping::PriorFromImu(T_world_base_prev, v_world, imu_samples, last_stamp_ns,
-                                          stamp_ns, extrinsics.T_base_imu, noise);
-            if (!built) why_not = PriorSubstitution::kNoImuSamples;
-            break;
-        }
-        case PriorKind::kDoppler:
-        case PriorKind::kImuDoppler:
-            // The odometry's twist honours every odometry setting; a fallback twist (no valid
-            // velocity, an implausible angular rate) is not a measurement: substitute.
-            if (step.fallback_cause == odometry::FallbackCause::kInvalidVelocity) {
-                why_not = PriorSubstitution::kInvalidDopplerVelocity;
-            } else if (twist_discontinuous) {
-                why_not = PriorSubstitution::kDiscontinuousTwist;
-            } else if (step.fallback_cause == odometry::FallbackCause::kAngularRateLimit) {
-                why_not = PriorSubstitution::kAngularRateLimit;
-            } else if (step.fallback_cause == odometry::FallbackCause::kNoImuSamples) {
-                why_not = PriorSubstitution::kNoImuSamples;
-            } else if (kind == PriorKind::kDoppler) {
-                built =
-                    mapping::PriorFromDoppler(T_world_base_prev, IntervalTwist(step), dt_s, noise);
-            } else {
-                built = mapping::PriorFromImuAndDoppler(T_world_base_prev, IntervalTwist(step),
-                                                        imu_samples, last_stamp_ns + 1, stamp_ns,
-                                                        extrinsics.T_base_imu, dt_s, noise);
-                if (!built) why_not = PriorSubstitution::kNoImuSamples;
-            }
-            // Not after a gap (the last motion is stale, as for the trapezoid) nor on a
-            // stationary scan (the zero twist is exact).
-            if (built && noise.doppler_with_constvel && has_two && dt_s <= 1.5 * last_dt_s &&
-                !step.zero_velocity_update)
-                built = mapping::FusePriors(*built, constvel());
-            break;
-    }
-    if (!built) {
-        out.used = PriorKind::kConstVel;
-        out.substitution = why_not;
-        if (why_not == PriorSubstitution::kInvalidDopplerVelocity)
-            out.substitution_detail = step.ego.failure_detail;
-        built = constvel();
-    }
-    out.prior = *built;
-    return out;
+    in.imu_samples = gyro_bias.Corrected(imu.samples());
+    in.T_base_imu = extrinsics.T_base_imu;
+    in.constvel_fusion_allowed = !step.zero_velocity_update;
+    return BuildMotionPrior(in, config.prior_noise);
 }
 
 }  // namespace dorado::frontend

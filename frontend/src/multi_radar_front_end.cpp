@@ -160,74 +160,29 @@ RadarScan MultiRadarFrontEnd::State::MergedCloud(int64_t stamp_ns, mapping::Poin
 }
 
 BuiltPrior MultiRadarFrontEnd::State::BuildPrior(int64_t stamp_ns, double dt_s) const {
-    using mapping::PriorKind;
-    const PriorKind kind = config.prior;
-    BuiltPrior out;
-    out.requested = kind;
-    out.used = kind;
-    if (sweeps == 0) {  // the first sweep defines the world
-        out.prior.covariance = Matrix6d::Identity() * 1e-6;
-        out.prior.kind = kind;
-        out.first_scan = true;
-        return out;
+    PriorInputs in;
+    in.kind = config.prior;
+    in.poses = sweeps;
+    in.T_world_base_prev = T_world_base_prev;
+    in.T_world_base_prev2 = T_world_base_prev2;
+    in.last_stamp_ns = last_sweep_ns;
+    in.stamp_ns = stamp_ns;
+    in.last_dt_s = last_dt_s;
+    in.dt_s = dt_s;
+    if (twist_measured_in_sweep) {
+        const Twist now =
+            PriorTwistOf(filter.twist(), filter.covariance(), geometry.velocity_prior);
+        const bool trapezoid =
+            config.prior_noise.doppler_integration == mapping::TwistIntegration::kTrapezoid &&
+            last_twist && dt_s <= 1.5 * last_dt_s;
+        in.interval_twist = trapezoid ? mapping::TrapezoidTwist(*last_twist, now) : now;
+    } else {
+        in.refused = PriorSubstitution::kInvalidDopplerVelocity;
+        in.refused_detail = "no radar's ego-velocity updated the twist";
     }
-    const mapping::PriorNoiseConfig &noise = config.prior_noise;
-    const bool has_two = sweeps >= 2 && last_dt_s > 0.0;
-    std::optional<mapping::MotionPrior> built;
-    PriorSubstitution why_not = PriorSubstitution::kNone;
-    const Twist now = PriorTwistOf(filter.twist(), filter.covariance(), geometry.velocity_prior);
-    const Twist interval = (noise.doppler_integration == mapping::TwistIntegration::kTrapezoid &&
-                            last_twist && dt_s <= 1.5 * last_dt_s)
-                               ? mapping::TrapezoidTwist(*last_twist, now)
-                               : now;
-    const std::vector<ImuSample> samples = imu.samples();
-    switch (kind) {
-        case PriorKind::kNone:
-            built = mapping::PriorFromPreviousPose(T_world_base_prev, noise);
-            break;
-        case PriorKind::kConstVel:
-            break;  // below
-        case PriorKind::kImu: {
-            std::optional<Eigen::Vector3d> v_world;  // unknown from one pose
-            if (has_two)
-                v_world = (T_world_base_prev.translation() - T_world_base_prev2.translation()) /
-                          last_dt_s;
-            built = mapping::PriorFromImu(T_world_base_prev, v_world, samples, last_sweep_ns,
-                                          stamp_ns, T_base_imu, noise);
-            if (!built) why_not = PriorSubstitution::kNoImuSamples;
-            break;
-        }
-        case PriorKind::kDoppler:
-        case PriorKind::kImuDoppler:
-            if (!twist_measured_in_sweep) {
-                why_not = PriorSubstitution::kInvalidDopplerVelocity;
-            } else if (kind == PriorKind::kDoppler) {
-                built = mapping::PriorFromDoppler(T_world_base_prev, interval, dt_s, noise);
-            } else {
-                built = mapping::PriorFromImuAndDoppler(T_world_base_prev, interval, samples,
-                                                        last_sweep_ns + 1, stamp_ns, T_base_imu,
-                                                        dt_s, noise);
-                if (!built) why_not = PriorSubstitution::kNoImuSamples;
-            }
-            if (built && noise.doppler_with_constvel && has_two && dt_s <= 1.5 * last_dt_s)
-                built = mapping::FusePriors(
-                    *built, mapping::PriorConstantVelocity(T_world_base_prev2, T_world_base_prev,
-                                                           last_dt_s, dt_s, noise));
-            break;
-    }
-    if (!built) {
-        if (kind != PriorKind::kConstVel) {
-            out.used = PriorKind::kConstVel;
-            out.substitution = why_not;
-            if (why_not == PriorSubstitution::kInvalidDopplerVelocity)
-                out.substitution_detail = "no radar's ego-velocity updated the twist";
-        }
-        built = has_two ? mapping::PriorConstantVelocity(T_world_base_prev2, T_world_base_prev,
-                                                         last_dt_s, dt_s, noise)
-                        : mapping::PriorFromPreviousPose(T_world_base_prev, noise);
-    }
-    out.prior = *built;
-    return out;
+    in.imu_samples = imu.samples();
+    in.T_base_imu = T_base_imu;
+    return BuildMotionPrior(in, config.prior_noise);
 }
 
 FrontEndResult MultiRadarFrontEnd::State::CloseSweep(int64_t stamp_ns) {
