@@ -68,6 +68,9 @@ struct RadarMapper::State {
     Eigen::Isometry3d T_map_base_last = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d T_world_base_last_keyframe = Eigen::Isometry3d::Identity();
     int fallbacks = 0;
+    /// The map chain's last pose relative to the map: zero after a registered scan, the prior's
+    /// covariance compounded over the fallbacks since.
+    Matrix6d unanchored_covariance = Matrix6d::Zero();
     std::optional<WindowSmoother> window;  ///< refinement = kWindow
     bool planar = false;                   ///< a 2D radar: registration in the plane
     /// refinement = kFilter: the covariance of T_world_base_last relative to the map (zero at the

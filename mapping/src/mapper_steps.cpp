@@ -71,8 +71,15 @@ MotionPrior OnThePlane(const MotionPrior &prior, const Eigen::Isometry3d &T_worl
 
 MotionPrior RadarMapper::State::OnMapChain(const MotionPrior &prior) const {
     MotionPrior prior_map = prior;
-    if (has_pose)
-        prior_map.T_world_base = T_map_base_last * T_world_base_last.inverse() * prior.T_world_base;
+    if (!has_pose) return prior_map;
+    prior_map.T_world_base = T_map_base_last * T_world_base_last.inverse() * prior.T_world_base;
+    // After fallbacks the previous pose is the prior's, not the map's: its uncertainty relative to
+    // the map, carried along the motion, adds to this scan's (P = Ad(D^-1) U Ad(D^-1)^T + C).
+    if (!unanchored_covariance.isZero()) {
+        const Matrix6d Ad =
+            AdjointSE3((T_world_base_last.inverse() * prior.T_world_base).inverse());
+        prior_map.covariance += Ad * unanchored_covariance * Ad.transpose();
+    }
     return prior_map;
 }
 

@@ -130,6 +130,10 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Mapp
     ScanEstimate estimate =
         s.Estimate(source_base, points.doppler, prior_map, prior, prior_output, input, threshold_m);
     if (estimate.fallback()) estimate = s.FallBack(std::move(estimate), prior, prior_map);
+    if (estimate.fallback())
+        s.unanchored_covariance = prior_map.covariance;
+    else
+        s.unanchored_covariance.setZero();
     const NoiseScales noise_scales = s.noise.scales();
     if (s.window) estimate = s.SmoothWindow(std::move(estimate), points.doppler, prior, input);
     const bool filter = config.refinement == Refinement::kFilter;

@@ -64,10 +64,22 @@ void GroundAttitudeFilter::Update(const GroundObservation &observation, double d
     step.innovation_chi2 = innovation.dot(S1.ldlt().solve(innovation));
     if (config_.max_innovation_chi2 > 0.0 &&
         !(step.innovation_chi2 <= config_.max_innovation_chi2)) {
+        // Refused over more than the road's correlation length, the ground disagrees with the
+        // attitude for longer than any kerb or ramp: the attitude drifted beyond the gate, which
+        // would refuse every later look. It is levelled with the ground again, as at the start.
+        refused_distance_m_ += distance_m;
+        if (config_.road_correlation_m > 0.0 && refused_distance_m_ > config_.road_correlation_m) {
+            refused_distance_m_ = 0.0;
+            initialized_ = false;
+            Update(observation, distance_m, T_world_base, step);
+            step.relevelled = true;
+            return;
+        }
         step.observation.valid = false;
         step.observation.fallback = GroundFallback::kInconsistent;
         return;
     }
+    refused_distance_m_ = 0.0;
     // The road's slope is the measurement's error: correlated over road_correlation_m, so a scan
     // that moved distance_m holds distance_m / road_correlation_m of an independent look at it.
     const double looks = std::max(1.0, config_.road_correlation_m / distance_m);

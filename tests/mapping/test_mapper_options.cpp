@@ -191,5 +191,51 @@ TEST(MapperOptions, AJumpBeyondThePriorsGateFallsBackToThePrior) {
     EXPECT_TRUE(trusted.registered.valid);
 }
 
+// After a fallback the pose is the prior's, not the map's: its uncertainty relative to the map
+// grows with every fallback, so a registration that the jump test refused is taken once the
+// compounded prior covers it, instead of every later scan being refused against a prior that
+// starts from the wrong pose (the lock-out). A prior 1 m to the side with 0.1 m of uncertainty per
+// scan, widened by the registration's 0.1 m: Mahalanobis^2 1 / (k 0.1^2 + 0.1^2) after k
+// compounded intervals: 50, 33, 25, 20 (trusted).
+TEST(MapperOptions, FallbacksWidenThePriorUntilTheMapIsTrustedAgain) {
+    const Eigen::Vector3d v_base(2.0, 0.0, 0.0);
+    const Eigen::Vector3d offset(0.0, 1.0, 0.0);
+    MapperConfig config;
+    config.update_map_on_fallback = false;  // the map holds only registered scans
+    RadarMapper mapper(config, Mount());
+    std::mt19937 rng(9);
+    auto T_true = [&](int k) {
+        return Eigen::Isometry3d(Eigen::Translation3d(10.0 + 0.2 * k, 0.0, 0.0));
+    };
+    mapper.Register(ScanFrom(T_true(0), v_base, Eigen::Vector3d::Zero(), rng),
+                    PriorInput(PriorAt(T_true(0)), kDtS));
+    std::vector<double> mahalanobis2;
+    RegistrationResult result;
+    for (int k = 1; k <= 10; ++k) {
+        // The true motion from the previous pose: on the wrong side once a scan fell back.
+        MotionPrior prior = PriorAt(T_true(k));
+        prior.T_world_base.translation() += offset;
+        prior.covariance.diagonal().head<3>().setConstant(0.1 * 0.1);
+        result = mapper.Register(ScanFrom(T_true(k), v_base, Eigen::Vector3d::Zero(), rng),
+                                 PriorInput(prior, kDtS));
+        mahalanobis2.push_back(result.prior_mahalanobis_squared);
+        std::printf("scan %d: %s, Mahalanobis^2 %.1f\n", k, ToString(result.fallback_cause),
+                    result.prior_mahalanobis_squared);
+        if (!result.fallback()) break;
+        EXPECT_EQ(result.fallback_cause, FallbackCause::kJump) << "scan " << k;
+    }
+    ASSERT_GE(mahalanobis2.size(), 3u);
+    EXPECT_NEAR(mahalanobis2[0], 50.0, 10.0);
+    EXPECT_NEAR(mahalanobis2[1], 33.3, 7.0);  // 50 again if the fallback's pose counted as exact
+    EXPECT_LT(mahalanobis2[1], 0.8 * mahalanobis2[0]);
+    ASSERT_FALSE(result.fallback()) << "still refused after 10 scans";
+    EXPECT_LE(mahalanobis2.size(), 5u);
+    // The registration (the map's chain) back near the truth: within a quarter of the prior's 1 m.
+    ASSERT_TRUE(result.registered.valid);
+    const int k = static_cast<int>(mahalanobis2.size());
+    EXPECT_LT((result.registered.T_world_base.translation() - T_true(k).translation()).norm(),
+              0.25);
+}
+
 }  // namespace
 }  // namespace dorado::mapping

@@ -131,6 +131,46 @@ TEST(GroundPlane, FilterRefusesAnObservationInconsistentWithItsPrediction) {
     EXPECT_GT(RollPitchYaw(T.linear()).x(), 0.0);
 }
 
+// A kerb is refused for a few scans; a ground that disagrees for longer than the road's slope is
+// correlated is the attitude's own drift beyond the gate: the filter levels with it again instead
+// of refusing every later look.
+TEST(GroundPlane, FilterLevelsAgainWhenTheGroundDisagreesBeyondTheRoadsCorrelation) {
+    GroundAttitudeConfig config;
+    config.plane = Plane();
+    config.road_correlation_m = 20.0;
+    GroundAttitudeFilter filter(config);
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    GroundObservation obs;
+    obs.valid = true;
+    obs.cov_roll_pitch = Eigen::Matrix2d::Identity() * std::pow(0.5 * kDeg, 2);
+    GroundAttitudeStep step;
+    filter.Update(obs, 0.5, T, step);  // initialises: level
+    ASSERT_TRUE(step.updated);
+    // The attitude drifted 25 deg in pitch (a biased twist); the ground still says level.
+    T.linear() = RotationFromRollPitchYaw(Eigen::Vector3d(0.0, 25.0 * kDeg, 0.3));
+    int refused = 0;
+    double travelled_m = 0.0;
+    for (; travelled_m < 30.0; travelled_m += 0.5) {
+        step = GroundAttitudeStep{};
+        filter.Update(obs, 0.5, T, step);
+        if (step.relevelled) break;
+        EXPECT_EQ(step.observation.fallback, GroundFallback::kInconsistent);
+        ++refused;
+    }
+    ASSERT_TRUE(step.relevelled) << "refused over " << travelled_m << " m";
+    EXPECT_TRUE(step.updated);
+    EXPECT_EQ(refused, 40);  // 40 x 0.5 m = the road's 20 m correlation, then the 41st levels
+    const Eigen::Vector3d rpy = RollPitchYaw(T.linear());
+    EXPECT_NEAR(rpy.y(), 0.0, 1e-9);
+    EXPECT_NEAR(rpy.z(), 0.3, 1e-9);  // yaw kept
+    // Then it filters as usual: a small look is used, not a relevel.
+    obs.roll_pitch_rad << 1.0 * kDeg, 0.0;
+    step = GroundAttitudeStep{};
+    filter.Update(obs, 0.5, T, step);
+    EXPECT_TRUE(step.updated);
+    EXPECT_FALSE(step.relevelled);
+}
+
 TEST(GroundPlane, RollPitchFromSlopeMatchesTheRotationAndItsJacobian) {
     const Eigen::Vector2d slope(0.12, -0.07);
     Eigen::Matrix2d J;

@@ -51,7 +51,10 @@ struct GroundAttitudeStep {
     /// The plane fit's observation before the filter's gate (another filter on another chain of
     /// poses, the mapper's prior, decides on it again).
     GroundObservation fit;
-    bool updated = false;                                      ///< the attitude was corrected
+    bool updated = false;  ///< the attitude was corrected
+    /// Levelled with the ground again: the filter had refused it over more than
+    /// road_correlation_m (its attitude had drifted beyond the gate).
+    bool relevelled = false;
     Eigen::Vector2d correction_rad = Eigen::Vector2d::Zero();  ///< roll, pitch added
     Eigen::Matrix2d cov_roll_pitch = Eigen::Matrix2d::Zero();  ///< after this scan [rad^2]
     /// The innovation's squared Mahalanobis distance (see max_innovation_chi2); NaN when no
@@ -80,12 +83,14 @@ class GroundAttitudeFilter {
     void Reset() {
         P_.setZero();
         initialized_ = !config_.initialize_from_ground;
+        refused_distance_m_ = 0.0;
     }
 
   private:
     GroundAttitudeConfig config_;
     Eigen::Matrix2d P_ = Eigen::Matrix2d::Zero();  ///< covariance of [roll, pitch] error
     bool initialized_ = false;                     ///< roll and pitch have been set
+    double refused_distance_m_ = 0.0;  ///< travelled since the last accepted observation, refusing
 };
 
 }  // namespace dorado::odometry
