@@ -150,7 +150,7 @@ void RunOdometry(const OdometryOptions &opt) {
     std::map<odometry::EgoVelocityFailure, int> invalid_reasons;
     std::map<odometry::EgoVelocityFailure, std::string> first_invalid;  // each's first, once
     std::size_t fallbacks = 0, zero_velocity_updates = 0;
-    std::size_t ground_scans = 0;
+    std::size_t ground_scans = 0, ground_relevels = 0;
     std::map<odometry::GroundFallback, int> ground_fallbacks;
     ScanLoop loop(front_end);
     StreamGuard guard;  // Ctrl-C or a reader error mid-stream: stop, write what was done
@@ -165,6 +165,7 @@ void RunOdometry(const OdometryOptions &opt) {
             if (config.odometry.ground.enabled && step.integrated) {
                 const auto &ground = step.ground.observation;
                 ground_scans += ground.valid;
+                ground_relevels += step.ground.relevelled;
                 if (!ground.valid) ground_fallbacks[ground.fallback]++;
             }
             times_ms.push_back(result.times.total_ms);
@@ -204,6 +205,7 @@ void RunOdometry(const OdometryOptions &opt) {
     if (!radars_used.is_null()) summary["radars"] = radars_used;
     if (config.odometry.ground.enabled) {
         summary["ground"] = {{"scans_with_ground", ground_scans},
+                             {"relevelled", ground_relevels},
                              {"scans_without_ground", CountsByKey(ground_fallbacks)}};
     }
     AddStreamCounts(loop, summary);
