@@ -62,8 +62,12 @@ struct MultiRadarFrontEnd::State {
     }
 
     void Keep(std::size_t radar, const RadarScan &scan, const odometry::EgoVelocityResult &ego);
-    [[nodiscard]] RadarScan MergedCloud(int64_t stamp_ns, mapping::PointMask &static_mask,
-                                        mapping::PointMask &moving_mask) const;
+    /// The kept scans as one cloud in the base frame, with their masks.
+    struct MergedSweep {
+        RadarScan scan;
+        mapping::PointMask static_mask, moving_mask;
+    };
+    [[nodiscard]] MergedSweep MergedCloud(int64_t stamp_ns) const;
     [[nodiscard]] BuiltPrior BuildPrior(int64_t stamp_ns, double dt_s) const;
     FrontEndResult CloseSweep(int64_t stamp_ns);
 
@@ -130,11 +134,13 @@ void MultiRadarFrontEnd::State::Keep(std::size_t radar, const RadarScan &scan,
 
 // Every kept scan's points in the base frame at stamp_ns: p = ExpSE3(xi (t_j - t)) T_base_radar p_j
 // (the base moved with the filter's twist between the scan's stamp and the sweep's).
-RadarScan MultiRadarFrontEnd::State::MergedCloud(int64_t stamp_ns, mapping::PointMask &static_mask,
-                                                 mapping::PointMask &moving_mask) const {
+MultiRadarFrontEnd::State::MergedSweep MultiRadarFrontEnd::State::MergedCloud(
+    int64_t stamp_ns) const {
     Eigen::Index n = 0;
     for (const KeptScan &k : kept) n += k.xyz_radar.cols();
-    RadarScan merged;
+    MergedSweep sweep;
+    RadarScan &merged = sweep.scan;
+    mapping::PointMask &static_mask = sweep.static_mask, &moving_mask = sweep.moving_mask;
     merged.Resize(n);
     merged.stamp_ns = stamp_ns;
     merged.frame_id = "base";
@@ -156,7 +162,7 @@ RadarScan MultiRadarFrontEnd::State::MergedCloud(int64_t stamp_ns, mapping::Poin
     // The radars' Doppler is each radar's own: the mapper's Doppler residuals (one sensor) skip it.
     merged.doppler_mps.setConstant(std::numeric_limits<double>::quiet_NaN());
     merged.DeriveSphericalFromXyz();
-    return merged;
+    return sweep;
 }
 
 BuiltPrior MultiRadarFrontEnd::State::BuildPrior(int64_t stamp_ns, double dt_s) const {
@@ -210,14 +216,13 @@ FrontEndResult MultiRadarFrontEnd::State::CloseSweep(int64_t stamp_ns) {
     mapping::MapperInput input;
     input.prior = result.prior;
     input.dt_s = dt_s;
-    mapping::PointMask static_mask, moving_mask;
-    const RadarScan merged = MergedCloud(stamp_ns, static_mask, moving_mask);
+    MergedSweep sweep = MergedCloud(stamp_ns);
     if (config.use_mask) {
-        input.static_mask = static_mask;
-        input.moving_mask = moving_mask;
-        result.static_mask = static_mask;
+        result.static_mask = sweep.static_mask;
+        input.static_mask = std::move(sweep.static_mask);
+        input.moving_mask = std::move(sweep.moving_mask);
     }
-    result.registration = mapper.Register(merged, input);
+    result.registration = mapper.Register(sweep.scan, input);
     result.times.mapper = result.registration.times;
     result.T_world_base = result.registration.T_world_base;
     result.times.total_ms = MillisecondsSince(t_start);

@@ -83,10 +83,13 @@ MappedScan RadarFrontEnd::State::MapScan(const RadarScan &scan_radar,
         out.prior.used == mapping::PriorKind::kDoppler) {
         // The twist carries no attitude correction: the prior's roll and pitch get the ground's,
         // filtered on the mapper's own chain (the first scan initialises them).
-        odometry::GroundAttitudeStep ground;
         prior_ground.Predict(step.covariance_used.bottomRightCorner<3, 3>(), step.dt_s);
-        prior_ground.Update(step.ground.fit, step.v_base_used_mps.norm() * step.dt_s,
-                            out.prior.prior.T_world_base, ground);
+        Eigen::Isometry3d &T_world_base = out.prior.prior.T_world_base;
+        T_world_base.linear() =
+            prior_ground
+                .Update(step.ground.fit, step.v_base_used_mps.norm() * step.dt_s,
+                        T_world_base.linear())
+                .R_world_base;
     }
     out.prior_ms = MillisecondsSince(t_prior);
 

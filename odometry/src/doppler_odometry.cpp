@@ -219,8 +219,9 @@ void DopplerOdometry::CorrectAttitude(const RadarScan &scan_radar, OdometryStep 
     for (std::size_t i = 0; i < use.size(); ++i) use[i] = step.ego.labels[i] == PointLabel::kStatic;
     const GroundObservation observation =
         FitGroundPlane(ground_filter_.config().plane, points_base, use);
-    ground_filter_.Update(observation, step.v_base_used_mps.norm() * step.dt_s, T_world_base_,
-                          step.ground);
+    step.ground = ground_filter_.Update(observation, step.v_base_used_mps.norm() * step.dt_s,
+                                        T_world_base_.linear());
+    T_world_base_.linear() = step.ground.R_world_base;
 }
 
 void DopplerOdometry::ChooseTwist(const Eigen::Vector3d &gyro_base_radps, OdometryStep &step) {

@@ -36,25 +36,28 @@ void GroundAttitudeFilter::Predict(const Eigen::Matrix3d &cov_omega_base, double
         cov_omega_base.topLeftCorner<2, 2>() * dt_s * dt_s + q * dt_s * Eigen::Matrix2d::Identity();
 }
 
-void GroundAttitudeFilter::Update(const GroundObservation &observation, double distance_m,
-                                  Eigen::Isometry3d &T_world_base, GroundAttitudeStep &step) {
+GroundAttitudeStep GroundAttitudeFilter::Update(const GroundObservation &observation,
+                                                double distance_m,
+                                                const Eigen::Matrix3d &R_world_base) {
+    GroundAttitudeStep step;
     step.observation = observation;
     step.fit = observation;
     step.cov_roll_pitch = P_;
-    if (!observation.valid) return;
+    step.R_world_base = R_world_base;
+    if (!observation.valid) return step;
     const double slope2 = std::pow(DegToRad(config_.road_slope_sigma_deg), 2);
-    Eigen::Vector3d rpy = RollPitchYaw(T_world_base.linear());
+    Eigen::Vector3d rpy = RollPitchYaw(R_world_base);
     if (!initialized_) {  // the world frame is level with the road here
         step.correction_rad = observation.roll_pitch_rad - rpy.head<2>();
         rpy.head<2>() = observation.roll_pitch_rad;
-        T_world_base.linear() = RotationFromRollPitchYaw(rpy);
+        step.R_world_base = RotationFromRollPitchYaw(rpy);
         P_ = observation.cov_roll_pitch + slope2 * Eigen::Matrix2d::Identity();
         initialized_ = true;
         step.updated = true;
         step.cov_roll_pitch = P_;
-        return;
+        return step;
     }
-    if (!(distance_m > 1e-3)) return;
+    if (!(distance_m > 1e-3)) return step;
     // z = [roll, pitch] of R_world_base (ZYX, yaw free); H = I on the Euler error.
     const Eigen::Vector2d innovation = observation.roll_pitch_rad - rpy.head<2>();
     // The gate: one look at the road's slope (a ridge, a kerb or a ramp under the vehicle tilts
@@ -71,13 +74,14 @@ void GroundAttitudeFilter::Update(const GroundObservation &observation, double d
         if (config_.road_correlation_m > 0.0 && refused_distance_m_ > config_.road_correlation_m) {
             refused_distance_m_ = 0.0;
             initialized_ = false;
-            Update(observation, distance_m, T_world_base, step);
-            step.relevelled = true;
-            return;
+            GroundAttitudeStep levelled = Update(observation, distance_m, R_world_base);
+            levelled.innovation_chi2 = step.innovation_chi2;
+            levelled.relevelled = true;
+            return levelled;
         }
         step.observation.valid = false;
         step.observation.fallback = GroundFallback::kInconsistent;
-        return;
+        return step;
     }
     refused_distance_m_ = 0.0;
     // The road's slope is the measurement's error: correlated over road_correlation_m, so a scan
@@ -87,13 +91,14 @@ void GroundAttitudeFilter::Update(const GroundObservation &observation, double d
         observation.cov_roll_pitch + slope2 * looks * Eigen::Matrix2d::Identity();
     const Eigen::Matrix2d K = P_ * (P_ + R).inverse();
     step.correction_rad = K * innovation;
-    if (!step.correction_rad.allFinite()) return;
+    if (!step.correction_rad.allFinite()) return step;
     rpy.head<2>() += step.correction_rad;
-    T_world_base.linear() = RotationFromRollPitchYaw(rpy);
+    step.R_world_base = RotationFromRollPitchYaw(rpy);
     P_ = (Eigen::Matrix2d::Identity() - K) * P_;
     P_ = 0.5 * (P_ + P_.transpose());
     step.updated = true;
     step.cov_roll_pitch = P_;
+    return step;
 }
 
 }  // namespace dorado::odometry

@@ -112,21 +112,22 @@ TEST(GroundPlane, FilterRefusesAnObservationInconsistentWithItsPrediction) {
     obs.valid = true;
     obs.cov_roll_pitch = Eigen::Matrix2d::Identity() * std::pow(0.5 * kDeg, 2);
     GroundAttitudeStep step;
-    filter.Update(obs, 0.1, T, step);  // initialises: level
+    step = filter.Update(obs, 0.1, T.linear());  // initialises: level
+    T.linear() = step.R_world_base;
     ASSERT_TRUE(step.updated);
     filter.Predict(Eigen::Matrix3d::Identity() * std::pow(1.0 * kDeg, 2), 0.1);
     // 20 deg of roll after 0.1 s: a kerb under one side, not the vehicle's attitude.
     obs.roll_pitch_rad << 20.0 * kDeg, 0.0;
-    step = GroundAttitudeStep{};
-    filter.Update(obs, 0.1, T, step);
+    step = filter.Update(obs, 0.1, T.linear());
+    T.linear() = step.R_world_base;
     EXPECT_FALSE(step.updated);
     EXPECT_EQ(step.observation.fallback, GroundFallback::kInconsistent);
     EXPECT_GT(step.innovation_chi2, config.max_innovation_chi2);
     EXPECT_NEAR(RollPitchYaw(T.linear()).x(), 0.0, 1e-12);
     // 2 deg is within the road's slope: used.
     obs.roll_pitch_rad << 2.0 * kDeg, 0.0;
-    step = GroundAttitudeStep{};
-    filter.Update(obs, 0.1, T, step);
+    step = filter.Update(obs, 0.1, T.linear());
+    T.linear() = step.R_world_base;
     EXPECT_TRUE(step.updated);
     EXPECT_GT(RollPitchYaw(T.linear()).x(), 0.0);
 }
@@ -144,15 +145,16 @@ TEST(GroundPlane, FilterLevelsAgainWhenTheGroundDisagreesBeyondTheRoadsCorrelati
     obs.valid = true;
     obs.cov_roll_pitch = Eigen::Matrix2d::Identity() * std::pow(0.5 * kDeg, 2);
     GroundAttitudeStep step;
-    filter.Update(obs, 0.5, T, step);  // initialises: level
+    step = filter.Update(obs, 0.5, T.linear());  // initialises: level
+    T.linear() = step.R_world_base;
     ASSERT_TRUE(step.updated);
     // The attitude drifted 25 deg in pitch (a biased twist); the ground still says level.
     T.linear() = RotationFromRollPitchYaw(Eigen::Vector3d(0.0, 25.0 * kDeg, 0.3));
     int refused = 0;
     double travelled_m = 0.0;
     for (; travelled_m < 30.0; travelled_m += 0.5) {
-        step = GroundAttitudeStep{};
-        filter.Update(obs, 0.5, T, step);
+        step = filter.Update(obs, 0.5, T.linear());
+        T.linear() = step.R_world_base;
         if (step.relevelled) break;
         EXPECT_EQ(step.observation.fallback, GroundFallback::kInconsistent);
         ++refused;
@@ -165,8 +167,8 @@ TEST(GroundPlane, FilterLevelsAgainWhenTheGroundDisagreesBeyondTheRoadsCorrelati
     EXPECT_NEAR(rpy.z(), 0.3, 1e-9);  // yaw kept
     // Then it filters as usual: a small look is used, not a relevel.
     obs.roll_pitch_rad << 1.0 * kDeg, 0.0;
-    step = GroundAttitudeStep{};
-    filter.Update(obs, 0.5, T, step);
+    step = filter.Update(obs, 0.5, T.linear());
+    T.linear() = step.R_world_base;
     EXPECT_TRUE(step.updated);
     EXPECT_FALSE(step.relevelled);
 }

@@ -57,6 +57,8 @@ struct GroundAttitudeStep {
     bool relevelled = false;
     Eigen::Vector2d correction_rad = Eigen::Vector2d::Zero();  ///< roll, pitch added
     Eigen::Matrix2d cov_roll_pitch = Eigen::Matrix2d::Zero();  ///< after this scan [rad^2]
+    /// The attitude after this scan: the given one, roll and pitch corrected when `updated`.
+    Eigen::Matrix3d R_world_base = Eigen::Matrix3d::Identity();
     /// The innovation's squared Mahalanobis distance (see max_innovation_chi2); NaN when no
     /// observation was tested.
     double innovation_chi2 = std::numeric_limits<double>::quiet_NaN();
@@ -70,12 +72,12 @@ class GroundAttitudeFilter {
     /// P += C_omega[roll, pitch] dt^2 + q dt.
     void Predict(const Eigen::Matrix3d &cov_omega_base, double dt_s);
 
-    /// Corrects roll and pitch of T_world_base (yaw and position kept) with the observation, the
-    /// road counted as level within road_slope_sigma_deg, given the distance travelled since the
-    /// previous scan. Nothing changes for an invalid observation or when standing still (the same
-    /// road seen again carries no new information about it).
-    void Update(const GroundObservation &observation, double distance_m,
-                Eigen::Isometry3d &T_world_base, GroundAttitudeStep &step);
+    /// Roll and pitch of R_world_base (yaw kept) corrected with the observation, the road counted
+    /// as level within road_slope_sigma_deg, given the distance travelled since the previous scan:
+    /// the step's R_world_base. Unchanged for an invalid observation or when standing still (the
+    /// same road seen again carries no new information about it).
+    [[nodiscard]] GroundAttitudeStep Update(const GroundObservation &observation, double distance_m,
+                                            const Eigen::Matrix3d &R_world_base);
 
     [[nodiscard]] const Eigen::Matrix2d &covariance() const { return P_; }
     [[nodiscard]] const GroundAttitudeConfig &config() const { return config_; }
