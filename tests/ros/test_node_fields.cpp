@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -34,6 +36,39 @@ TEST(NodeFields, EachParameterOnce) {
     for (const char *own : {"config", "odometry_config", "mapper_config", "threshold_mode",
                             "threshold_value", "initial_pose", "sensor_pose"})
         EXPECT_EQ(std::count(names.begin(), names.end(), own), 0) << own;
+}
+
+// docs/live_node.md's parameter table is written by hand (it explains the parameters read by hand
+// too): every parameter of the list and every one read by hand has a row naming it.
+TEST(NodeFields, TheDocsTableNamesEveryParameter) {
+    std::ifstream file(DORADO_SOURCE_DIR "/docs/live_node.md");
+    std::stringstream text;
+    text << file.rdbuf();
+    std::vector<std::string> rows;  // the table's first cells
+    std::string line;
+    std::istringstream lines(text.str());
+    bool in_table = false;
+    while (std::getline(lines, line)) {
+        if (line.rfind("| parameter |", 0) == 0)
+            in_table = true;
+        else if (in_table && line.rfind("|", 0) != 0)
+            break;
+        else if (in_table)
+            rows.push_back(line.substr(0, line.find('|', 1)));
+    }
+    ASSERT_FALSE(rows.empty()) << "docs/live_node.md has no '| parameter |' table";
+    const auto named = [&](const std::string &name) {
+        return std::any_of(rows.begin(), rows.end(), [&](const std::string &cell) {
+            return cell.find('`' + name + '`') != std::string::npos;
+        });
+    };
+    for (const auto &row : io::ListFields(NodeSettings{}))
+        EXPECT_TRUE(named(row.key))
+            << "docs/live_node.md's parameter table lacks `" << row.key << "`";
+    for (const char *own :
+         {"config", "odometry_config", "mapper_config", "threshold_mode", "threshold_value",
+          "initial_pose", "sensor_pose", "calib_rot", "sensor_to_icr_x"})
+        EXPECT_TRUE(named(own)) << "docs/live_node.md's parameter table lacks `" << own << "`";
 }
 
 }  // namespace
