@@ -103,17 +103,21 @@ TEST(GroundPlane, UnevenGroundAndUnknownHeightAreNamedFallbacks) {
               GroundFallback::kNoBaseHeight);
 }
 
+// A level ground seen with 0.5 deg of fit noise.
+GroundObservation LevelGround() {
+    GroundObservation obs;
+    obs.valid = true;
+    obs.cov_roll_pitch = Eigen::Matrix2d::Identity() * std::pow(0.5 * kDeg, 2);
+    return obs;
+}
+
 TEST(GroundPlane, FilterRefusesAnObservationInconsistentWithItsPrediction) {
     GroundAttitudeConfig config;
     config.plane = Plane();
     GroundAttitudeFilter filter(config);
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    GroundObservation obs;
-    obs.valid = true;
-    obs.cov_roll_pitch = Eigen::Matrix2d::Identity() * std::pow(0.5 * kDeg, 2);
-    GroundAttitudeStep step;
-    step = filter.Update(obs, 0.1, T.linear());  // initialises: level
-    T.linear() = step.R_world_base;
+    GroundObservation obs = LevelGround();
+    GroundAttitudeStep step = filter.Update(obs, 0.1, T.linear());  // initialises: level
     ASSERT_TRUE(step.updated);
     filter.Predict(Eigen::Matrix3d::Identity() * std::pow(1.0 * kDeg, 2), 0.1);
     // 20 deg of roll after 0.1 s: a kerb under one side, not the vehicle's attitude.
@@ -140,15 +144,11 @@ TEST(GroundPlane, FilterLevelsAgainWhenTheGroundDisagreesBeyondTheRoadsCorrelati
     config.plane = Plane();
     config.road_correlation_m = 20.0;
     GroundAttitudeFilter filter(config);
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    GroundObservation obs;
-    obs.valid = true;
-    obs.cov_roll_pitch = Eigen::Matrix2d::Identity() * std::pow(0.5 * kDeg, 2);
-    GroundAttitudeStep step;
-    step = filter.Update(obs, 0.5, T.linear());  // initialises: level
-    T.linear() = step.R_world_base;
+    GroundObservation obs = LevelGround();
+    GroundAttitudeStep step = filter.Update(obs, 0.5, Eigen::Matrix3d::Identity());  // level
     ASSERT_TRUE(step.updated);
     // The attitude drifted 25 deg in pitch (a biased twist); the ground still says level.
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.linear() = RotationFromRollPitchYaw(Eigen::Vector3d(0.0, 25.0 * kDeg, 0.3));
     int refused = 0;
     double travelled_m = 0.0;
