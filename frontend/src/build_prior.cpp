@@ -24,6 +24,15 @@ BuiltPrior BuildMotionPrior(const PriorInputs &in, const mapping::PriorNoiseConf
                                                         in.last_dt_s, in.dt_s, noise)
                        : mapping::PriorFromPreviousPose(in.T_world_base_prev, noise);
     };
+    // The trapezoid needs the previous twist at the interval's start, at the usual cadence: after
+    // a gap (a dropped scan or more) that twist is stale and the scan's own is held, as the
+    // odometry does.
+    const auto interval_twist = [&] {
+        if (noise.doppler_integration != mapping::TwistIntegration::kTrapezoid || !in.last_twist ||
+            !(in.last_dt_s > 0.0 && in.dt_s <= 1.5 * in.last_dt_s))
+            return *in.twist;
+        return mapping::TrapezoidTwist(*in.last_twist, *in.twist);
+    };
     std::optional<mapping::MotionPrior> built;
     PriorSubstitution why_not = PriorSubstitution::kNone;
     switch (in.kind) {
@@ -46,13 +55,13 @@ BuiltPrior BuildMotionPrior(const PriorInputs &in, const mapping::PriorNoiseConf
         }
         case PriorKind::kDoppler:
         case PriorKind::kImuDoppler:
-            if (!in.interval_twist) {
+            if (!in.twist) {
                 why_not = in.refused;
             } else if (in.kind == PriorKind::kDoppler) {
-                built = mapping::PriorFromDoppler(in.T_world_base_prev, *in.interval_twist, in.dt_s,
+                built = mapping::PriorFromDoppler(in.T_world_base_prev, interval_twist(), in.dt_s,
                                                   noise);
             } else {
-                built = mapping::PriorFromImuAndDoppler(in.T_world_base_prev, *in.interval_twist,
+                built = mapping::PriorFromImuAndDoppler(in.T_world_base_prev, interval_twist(),
                                                         in.imu_samples, in.last_stamp_ns + 1,
                                                         in.stamp_ns, in.T_base_imu, in.dt_s, noise);
                 if (!built) why_not = PriorSubstitution::kNoImuSamples;

@@ -36,9 +36,10 @@ struct PriorInputs {
     int64_t stamp_ns = 0;
     double last_dt_s = 0.0;  ///< between the two previous poses (0: unknown)
     double dt_s = 0.0;       ///< since the previous pose
-    /// The base twist over the interval (trapezoid or endpoint, as the caller's rule); nullopt
-    /// when the Doppler twist is refused, for `refused`'s reason.
-    std::optional<Twist> interval_twist;
+    /// This scan's base twist; nullopt when the Doppler twist is refused, for `refused`'s reason.
+    std::optional<Twist> twist;
+    /// The previous pose's twist (nullopt: none), the interval's start for the trapezoid.
+    std::optional<Twist> last_twist;
     PriorSubstitution refused = PriorSubstitution::kNone;
     std::string refused_detail;
     /// The IMU samples since the previous pose (bias-corrected where the caller corrects it).

@@ -72,8 +72,6 @@ struct RadarFrontEnd::State {
     /// twist jumped).
     [[nodiscard]] BuiltPrior BuildPrior(const odometry::OdometryStep &step, int64_t stamp_ns,
                                         double dt_s, bool twist_discontinuous) const;
-    /// The twist the doppler priors hold over the interval (prior.doppler_integration).
-    [[nodiscard]] Twist IntervalTwist(const odometry::OdometryStep &step) const;
 
     // radar_front_end.cpp
     /// The interval's mean gyro rate in the base frame, bias removed (NaN before a first scan).

@@ -50,17 +50,6 @@ bool RadarFrontEnd::State::TwistIsContinuous(const odometry::OdometryStep &step)
     return true;
 }
 
-// The trapezoid needs the previous scan's twist at the interval's start, at the usual cadence:
-// after a gap (a dropped scan or more: an interval over 1.5 times the previous one) that twist is
-// stale and the scan's own is held, as the odometry does.
-Twist RadarFrontEnd::State::IntervalTwist(const odometry::OdometryStep &step) const {
-    const Twist twist = PriorTwist(step);
-    if (config.prior_noise.doppler_integration != mapping::TwistIntegration::kTrapezoid ||
-        !last_twist || !(last_dt_s > 0.0 && step.dt_s <= 1.5 * last_dt_s))
-        return twist;
-    return mapping::TrapezoidTwist(*last_twist, twist);
-}
-
 BuiltPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometryStep &step, int64_t stamp_ns,
                                             double dt_s, bool twist_discontinuous) const {
     PriorInputs in;
@@ -86,8 +75,9 @@ BuiltPrior RadarFrontEnd::State::BuildPrior(const odometry::OdometryStep &step, 
     } else if (step.fallback_cause == FallbackCause::kNoImuSamples) {
         in.refused = PriorSubstitution::kNoImuSamples;
     } else {
-        in.interval_twist = IntervalTwist(step);
+        in.twist = PriorTwist(step);
     }
+    in.last_twist = last_twist;
     in.imu_samples = gyro_bias.Corrected(imu.samples());
     in.T_base_imu = extrinsics.T_base_imu;
     in.constvel_fusion_allowed = !step.zero_velocity_update;

@@ -176,12 +176,8 @@ BuiltPrior MultiRadarFrontEnd::State::BuildPrior(int64_t stamp_ns, double dt_s) 
     in.last_dt_s = last_dt_s;
     in.dt_s = dt_s;
     if (twist_measured_in_sweep) {
-        const Twist now =
-            PriorTwistOf(filter.twist(), filter.covariance(), geometry.velocity_prior);
-        const bool trapezoid =
-            config.prior_noise.doppler_integration == mapping::TwistIntegration::kTrapezoid &&
-            last_twist && dt_s <= 1.5 * last_dt_s;
-        in.interval_twist = trapezoid ? mapping::TrapezoidTwist(*last_twist, now) : now;
+        in.twist = PriorTwistOf(filter.twist(), filter.covariance(), geometry.velocity_prior);
+        in.last_twist = last_twist;
     } else {
         in.refused = PriorSubstitution::kInvalidDopplerVelocity;
         in.refused_detail = "no radar's ego-velocity updated the twist";

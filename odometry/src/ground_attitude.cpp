@@ -47,7 +47,8 @@ GroundAttitudeStep GroundAttitudeFilter::Update(const GroundObservation &observa
     if (!observation.valid) return step;
     const double slope2 = std::pow(DegToRad(config_.road_slope_sigma_deg), 2);
     Eigen::Vector3d rpy = RollPitchYaw(R_world_base);
-    if (!initialized_) {  // the world frame is level with the road here
+    // Roll and pitch set to the observation's (the world frame is level with the road here).
+    const auto level = [&] {
         step.correction_rad = observation.roll_pitch_rad - rpy.head<2>();
         rpy.head<2>() = observation.roll_pitch_rad;
         step.R_world_base = RotationFromRollPitchYaw(rpy);
@@ -56,7 +57,8 @@ GroundAttitudeStep GroundAttitudeFilter::Update(const GroundObservation &observa
         step.updated = true;
         step.cov_roll_pitch = P_;
         return step;
-    }
+    };
+    if (!initialized_) return level();
     if (!(distance_m > 1e-3)) return step;
     // z = [roll, pitch] of R_world_base (ZYX, yaw free); H = I on the Euler error.
     const Eigen::Vector2d innovation = observation.roll_pitch_rad - rpy.head<2>();
@@ -73,11 +75,8 @@ GroundAttitudeStep GroundAttitudeFilter::Update(const GroundObservation &observa
         refused_distance_m_ += distance_m;
         if (config_.road_correlation_m > 0.0 && refused_distance_m_ > config_.road_correlation_m) {
             refused_distance_m_ = 0.0;
-            initialized_ = false;
-            GroundAttitudeStep levelled = Update(observation, distance_m, R_world_base);
-            levelled.innovation_chi2 = step.innovation_chi2;
-            levelled.relevelled = true;
-            return levelled;
+            step.relevelled = true;
+            return level();
         }
         step.observation.valid = false;
         step.observation.fallback = GroundFallback::kInconsistent;

@@ -69,13 +69,14 @@ enum class YawCalibrationStatus {
     kUpdated,        ///< a measurement was used
 };
 
-/// "disabled" | "warmup" | "accumulating" | "not_registered" | "standing" | "straight" | "outlier" | "updated".
+/// "disabled" | "warmup" | "accumulating" | "not_registered" | "standing" | "straight" |
+/// "outlier" | "updated".
 [[nodiscard]] const char *ToString(YawCalibrationStatus status);
 
 /// One scan's outcome, with the estimate after it.
 struct YawCalibrationStep {
     YawCalibrationStatus status = YawCalibrationStatus::kDisabled;
-    double s_x_m = 0.0;      ///< the estimate after this scan
+    double s_x_m = 0.0;  ///< the estimate after this scan
     double sigma_s_x_m = 0.0;
     double innovation_chi2 = 0.0;  ///< of the window's measurement (kUpdated, kOutlier)
 };
@@ -91,8 +92,8 @@ class YawRateCalibrator {
     /// `speed_mps` the base speed; `registered`: this scan's pose is the registration's, trusted
     /// (well conditioned, no fallback); `R_world_base` that pose's rotation. A window runs from
     /// one registered scan to a later registered one; an unregistered scan restarts it.
-    YawCalibrationStep AddScan(double dt_s, double v_sy_base_mps, double speed_mps,
-                               bool registered, const Eigen::Matrix3d &R_world_base);
+    YawCalibrationStep AddScan(double dt_s, double v_sy_base_mps, double speed_mps, bool registered,
+                               const Eigen::Matrix3d &R_world_base);
 
     /// The measurement model on its own: a yaw change `dpsi_rad` measured over a window whose
     /// lateral-velocity integral is `h_m` (= sum v_sy dt) and mean speed `mean_speed_mps`, after
