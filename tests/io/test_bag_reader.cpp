@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "dorado/io/dataset.hpp"
+#include "dorado/testing/dataset_events.hpp"
 
 namespace dorado::io {
 namespace {
@@ -45,14 +46,6 @@ class BagReaderTest : public ::testing::Test {
         return config;
     }
 
-    static std::vector<DatasetEvent> ReadAll(const DatasetConfig &config) {
-        auto reader = OpenDataset(config);
-        std::vector<DatasetEvent> events;
-        DatasetEvent e;
-        while (reader->Next(e)) events.push_back(e);
-        return events;
-    }
-
     static void ExpectExactScan(const DatasetEvent &e, int k, bool spherical = true,
                                 bool power = true) {
         ASSERT_EQ(e.kind, DatasetEvent::Kind::kRadarScan) << e.problem;
@@ -84,7 +77,7 @@ TEST_F(BagReaderTest, HuginLayoutWithImuAndGroundTruthReadsBackExactly) {
     DatasetConfig config = Config("hugin.bag");
     config.rosbag.imu_topic = "/imu/data";
     config.rosbag.ground_truth_topic = "/ground_truth/odom";
-    const auto events = ReadAll(config);
+    const auto events = testing::ReadAllEvents(config);
     ASSERT_EQ(events.size(), 3u * kScans);
     int scans = 0, imu = 0, gt = 0;
     int64_t last = 0;
@@ -132,7 +125,7 @@ TEST_F(BagReaderTest, PoseStampedGroundTruthThroughLoadGroundTruth) {
 }
 
 TEST_F(BagReaderTest, BigEndianLayoutReadsBackExactly) {
-    const auto events = ReadAll(Config("bigendian.bag"));
+    const auto events = testing::ReadAllEvents(Config("bigendian.bag"));
     ASSERT_EQ(events.size(), static_cast<std::size_t>(kScans));
     for (int k = 0; k < kScans; ++k) ExpectExactScan(events[k], k);
 }
@@ -146,7 +139,7 @@ TEST_F(BagReaderTest, Float64AndInt16FieldsWithPaddedRowsReadBackExactly) {
     config.fields.doppler = "vr";
     config.fields.power = "rcs";
     config.fields.range = config.fields.azimuth = config.fields.elevation = "";
-    const auto events = ReadAll(config);
+    const auto events = testing::ReadAllEvents(config);
     ASSERT_EQ(events.size(), static_cast<std::size_t>(kScans));
     for (int k = 0; k < kScans; ++k) {
         // float64 fields carry the double formula; compare with the float32 values widened, which
@@ -169,7 +162,7 @@ TEST_F(BagReaderTest, PointCloudWithChannels) {
     config.rosbag.radar_topic = "/radar/cloud";
     config.fields.doppler = "Doppler";
     config.fields.power = "Power";
-    const auto events = ReadAll(config);
+    const auto events = testing::ReadAllEvents(config);
     ASSERT_EQ(events.size(), static_cast<std::size_t>(kScans));
     for (int k = 0; k < kScans; ++k) ExpectExactScan(events[k], k, /*spherical=*/false);
 }
@@ -177,7 +170,7 @@ TEST_F(BagReaderTest, PointCloudWithChannels) {
 TEST_F(BagReaderTest, MissingFieldIsACountedBadScanNamingTheField) {
     DatasetConfig config = Config("bigendian.bag");
     config.fields.doppler = "velocity";
-    const auto events = ReadAll(config);
+    const auto events = testing::ReadAllEvents(config);
     ASSERT_EQ(events.size(), static_cast<std::size_t>(kScans));
     for (const auto &e : events) {
         EXPECT_EQ(e.kind, DatasetEvent::Kind::kBadScan);
@@ -189,7 +182,7 @@ TEST_F(BagReaderTest, MissingFieldIsACountedBadScanNamingTheField) {
 }
 
 TEST_F(BagReaderTest, NanPointsAreRemovedAndCountedAndBackwardStampsDelivered) {
-    const auto events = ReadAll(Config("faults.bag"));
+    const auto events = testing::ReadAllEvents(Config("faults.bag"));
     ASSERT_EQ(events.size(), static_cast<std::size_t>(kScans));
     EXPECT_EQ(events[2].removed_nonfinite_points, 1);
     EXPECT_EQ(events[2].scan.size(), kPoints - 1);

@@ -8,6 +8,7 @@
 
 #include "dorado/io/dataset.hpp"
 #include "dorado/io/folder_layout.hpp"
+#include "dorado/testing/dataset_events.hpp"
 
 namespace dorado::io {
 namespace {
@@ -65,14 +66,6 @@ class FolderReaderTest : public ::testing::Test {
         return config;
     }
 
-    static std::vector<DatasetEvent> ReadAll(const DatasetConfig &config) {
-        auto reader = OpenDataset(config);
-        std::vector<DatasetEvent> events;
-        DatasetEvent e;
-        while (reader->Next(e)) events.push_back(e);
-        return events;
-    }
-
     fs::path dir_;
 };
 
@@ -84,7 +77,7 @@ TEST_F(FolderReaderTest, ViewOfDelftSevenColumns) {
     DatasetConfig config = Config({"x", "y", "z", "RCS", "v_r", "v_r_compensated", "time"});
     config.fields.power = "RCS";
     config.fields.doppler = "v_r";
-    const auto events = ReadAll(config);
+    const auto events = testing::ReadAllEvents(config);
     ASSERT_EQ(events.size(), 3u);
     ASSERT_EQ(events[0].kind, DatasetEvent::Kind::kRadarScan) << events[0].problem;
     EXPECT_EQ(events[0].stamp_ns, 1690000000100000000LL);
@@ -104,7 +97,7 @@ TEST_F(FolderReaderTest, ColoRadarFiveColumnsWithIgnoredColumn) {
     DatasetConfig config = Config({"x", "y", "z", "_", "v_r"});
     config.fields.power = "";
     config.fields.doppler = "v_r";
-    const auto events = ReadAll(config);
+    const auto events = testing::ReadAllEvents(config);
     ASSERT_EQ(events.size(), 1u);
     EXPECT_FALSE(events[0].scan.has_power);
     EXPECT_EQ(events[0].scan.power_db[0], 0.0);
@@ -118,7 +111,7 @@ TEST_F(FolderReaderTest, PcdFilesWithTheSameFieldMap) {
            "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\n"
            "1 2 2 30 -0.75\n0 0 -2 15 0.125\n";
     WriteTimes("0.0\n");
-    const auto events = ReadAll(Config({}, ".pcd"));
+    const auto events = testing::ReadAllEvents(Config({}, ".pcd"));
     ASSERT_EQ(events.size(), 1u);
     ASSERT_EQ(events[0].kind, DatasetEvent::Kind::kRadarScan) << events[0].problem;
     EXPECT_EQ(events[0].scan.size(), 2);
@@ -168,7 +161,7 @@ TEST_F(FolderReaderTest, SixColumnFilesDescribedWithFiveAreRefusedWithTheCountTh
     EXPECT_EQ(problem->fix.rfind("folder.columns has 5 entries; every file fits 6", 0), 0u)
         << problem->fix;
     EXPECT_FALSE(CheckFolderLayout(ColumnsConfig(6)).has_value());
-    const auto events = ReadAll(ColumnsConfig(6));
+    const auto events = testing::ReadAllEvents(ColumnsConfig(6));
     ASSERT_EQ(events.size(), counts.size());
     for (std::size_t i = 0; i < counts.size(); ++i) {
         ASSERT_EQ(events[i].kind, DatasetEvent::Kind::kRadarScan) << events[i].problem;
@@ -182,7 +175,7 @@ TEST_F(FolderReaderTest, AFewOddFilesAreCountedSkipsMoreRefuseTheFolder) {
     for (std::size_t i = 0; i < 150; ++i) WriteRows(Name(i), 10 + i % 7, 5);
     WriteBin(Name(150), {{1, 2}});  // 8 bytes
     WriteTimes(151);
-    const auto events = ReadAll(ColumnsConfig(5));
+    const auto events = testing::ReadAllEvents(ColumnsConfig(5));
     ASSERT_EQ(events.size(), 151u);
     EXPECT_EQ(events[150].kind, DatasetEvent::Kind::kBadScan);
     EXPECT_NE(events[150].problem.find("not a multiple of 5"), std::string::npos);
@@ -223,7 +216,7 @@ TEST_F(FolderReaderTest, NeverUsesAScanWhoseLayoutTheSizesCannotVerify) {
                                   std::to_string(c);
         std::vector<DatasetEvent> events;
         try {
-            events = ReadAll(ColumnsConfig(c));
+            events = testing::ReadAllEvents(ColumnsConfig(c));
         } catch (const DatasetError &e) {
             ++refused;
             EXPECT_NE(t, c) << where << ": the true layout refused: " << e.what();
@@ -262,7 +255,7 @@ TEST_F(FolderReaderTest, PcdFieldMissingInManyFilesRefusesTheFolder) {
     };
     for (int i = 0; i < 10; ++i) write_pcd(i, i != 4);
     WriteTimes(10);
-    const auto events = ReadAll(Config({}, ".pcd"));
+    const auto events = testing::ReadAllEvents(Config({}, ".pcd"));
     ASSERT_EQ(events.size(), 10u);
     EXPECT_EQ(events[4].kind, DatasetEvent::Kind::kBadScan);
     EXPECT_EQ(events[5].kind, DatasetEvent::Kind::kRadarScan);
@@ -302,7 +295,7 @@ TEST_F(FolderReaderTest, ShippedBinLayoutsRefuseFilesOfAnotherWidth) {
                           std::string::npos)
                     << problem->fix;
             } else {
-                EXPECT_EQ(ReadAll(config).size(), 12u) << name;
+                EXPECT_EQ(testing::ReadAllEvents(config).size(), 12u) << name;
             }
         }
     }

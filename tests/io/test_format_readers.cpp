@@ -12,6 +12,7 @@
 #include <string>
 
 #include "dorado/io/dataset.hpp"
+#include "dorado/testing/dataset_events.hpp"
 
 namespace dorado::io {
 namespace {
@@ -79,20 +80,6 @@ class FormatReaders : public ::testing::Test {
     static DatasetConfig NuScenes(const std::string &channel = "RADAR_FRONT") {
         return LoadDatasetConfig(NuScenesYaml(channel, "v1.0-mini"));
     }
-    static std::vector<DatasetEvent> ReadAll(const DatasetConfig &config) {
-        auto reader = OpenDataset(config);
-        std::vector<DatasetEvent> events;
-        for (DatasetEvent e; reader->Next(e);) events.push_back(e);
-        return events;
-    }
-    static std::string ErrorOf(const DatasetConfig &config) {
-        try {
-            (void)ReadAll(config);
-        } catch (const DatasetError &e) {
-            return e.what();
-        }
-        return "(no error)";
-    }
 
     // The reader's scans equal `truth`'s: times to the microsecond, points to float precision.
     // `doppler_tol` covers nuScenes' Doppler formed from float32 vx, vy.
@@ -133,7 +120,8 @@ TEST_F(FormatReaders, RadarScenesScansTimesAndMountAreThoseWrittenIn) {
     const Eigen::Matrix3d R = config.extrinsics.T_base_radar.linear();
     EXPECT_NEAR(std::atan2(R(1, 0), R(0, 0)), 0.436, 1e-12);
     // The scenes of sensor 1 in between are not read.
-    ExpectSameScans(ReadAll(config), ReadFolder(dir_ / "radarscenes" / "expected", kScans), 0.0);
+    ExpectSameScans(testing::ReadAllEvents(config),
+                    ReadFolder(dir_ / "radarscenes" / "expected", kScans), 0.0);
 }
 
 TEST_F(FormatReaders, RadarScenesOdometryIsTheReference) {
@@ -159,14 +147,15 @@ TEST_F(FormatReaders, RadarScenesMalformedFilesNameTheFileAndTheField) {
         EXPECT_NE(what.find(part), std::string::npos) << what;
     };
     const std::string h5 = "radar_data.h5";
-    expect(ErrorOf(RadarScenes("missing_dataset")),
+    expect(testing::ReadAllEventsError(RadarScenes("missing_dataset")),
            "missing_dataset/" + h5 + ": no dataset 'radar_data'");
-    expect(ErrorOf(RadarScenes("missing_field")),
+    expect(testing::ReadAllEventsError(RadarScenes("missing_field")),
            "missing_field/" + h5 + ": radar_data.vr: no such field (fields: timestamp, sensor_id");
-    expect(ErrorOf(RadarScenes("wrong_dtype")),
+    expect(testing::ReadAllEventsError(RadarScenes("wrong_dtype")),
            "wrong_dtype/" + h5 + ": radar_data.vr: an integer field, expected a float");
-    expect(ErrorOf(RadarScenes("truncated")), "truncated/" + h5 + ": cannot open as an HDF5 file");
-    expect(ErrorOf(RadarScenes("sequence_105", 2)),
+    expect(testing::ReadAllEventsError(RadarScenes("truncated")),
+           "truncated/" + h5 + ": cannot open as an HDF5 file");
+    expect(testing::ReadAllEventsError(RadarScenes("sequence_105", 2)),
            "scenes.json: no scene of sensor_id 2 (the sequence has sensors 1, 3)");
 }
 
@@ -184,12 +173,13 @@ TEST_F(FormatReaders, RadarScenesSequenceDirWithATrailingSlashIsTheSameFolder) {
                                                  dir + "\n  sensor_id: 3\n")));
         EXPECT_EQ(config.radarscenes.sequence_dir, plain.radarscenes.sequence_dir);
         EXPECT_TRUE(config.extrinsics.T_base_radar.isApprox(plain.extrinsics.T_base_radar, 1e-12));
-        ExpectSameScans(ReadAll(config), ReadFolder(dir_ / "radarscenes" / "expected", kScans),
-                        0.0);
+        ExpectSameScans(testing::ReadAllEvents(config),
+                        ReadFolder(dir_ / "radarscenes" / "expected", kScans), 0.0);
     }
     DatasetConfig in_code = plain;  // not through the YAML loader
     in_code.radarscenes.sequence_dir += "/";
-    ExpectSameScans(ReadAll(in_code), ReadFolder(dir_ / "radarscenes" / "expected", kScans), 0.0);
+    ExpectSameScans(testing::ReadAllEvents(in_code),
+                    ReadFolder(dir_ / "radarscenes" / "expected", kScans), 0.0);
     EXPECT_TRUE(LoadGroundTruth(in_code).has_value());
 }
 
@@ -238,7 +228,8 @@ TEST_F(FormatReaders, NuScenesSweepsTimesAndMountAreThoseWrittenIn) {
     EXPECT_NEAR(std::abs(q.z()), 0.001745328366, 1e-9);
     // The other scene's sweep and the other channels are not read; the Doppler is the line-of-sight
     // part of vx, vy (the generator adds a tangential part up to 3 m/s).
-    ExpectSameScans(ReadAll(config), ReadFolder(dir_ / "nuscenes" / "expected", kScans), 2e-5);
+    ExpectSameScans(testing::ReadAllEvents(config),
+                    ReadFolder(dir_ / "nuscenes" / "expected", kScans), 2e-5);
 }
 
 TEST_F(FormatReaders, NuScenesEgoPosesAreTheReference) {
@@ -260,7 +251,7 @@ TEST_F(FormatReaders, NuScenesEgoPosesAreTheReference) {
 }
 
 TEST_F(FormatReaders, NuScenesMalformedSweepsAreSkipsNamingTheFileAndTheField) {
-    const auto events = ReadAll(NuScenes("RADAR_BACK_LEFT"));
+    const auto events = testing::ReadAllEvents(NuScenes("RADAR_BACK_LEFT"));
     ASSERT_EQ(events.size(), 5u);
     EXPECT_EQ(events[0].kind, DatasetEvent::Kind::kRadarScan) << events[0].problem;
     const std::pair<const char *, const char *> bad[] = {
@@ -306,9 +297,9 @@ TEST_F(FormatReaders, SameScansAndTimesAsTheSharedFolders) {
         !fs::exists(kShared / "nuscenes_scene-0061" / "radar_front" / "times.txt"))
         GTEST_SKIP() << "the shared real sets are absent (" << kShared.string()
                      << ", or set DORADO_SHARED_REAL): the fixtures were synthetic";
-    ExpectSameScans(ReadAll(RadarScenes()), ReadFolder(kShared / "radarscenes_105_radar3", kScans),
-                    0.0);
-    ExpectSameScans(ReadAll(NuScenes()),
+    ExpectSameScans(testing::ReadAllEvents(RadarScenes()),
+                    ReadFolder(kShared / "radarscenes_105_radar3", kScans), 0.0);
+    ExpectSameScans(testing::ReadAllEvents(NuScenes()),
                     ReadFolder(kShared / "nuscenes_scene-0061" / "radar_front", kScans), 2e-5);
 }
 

@@ -13,6 +13,7 @@
 #include "dorado/core/lie.hpp"
 #include "dorado/io/dataset.hpp"
 #include "dorado/io/trajectory_io.hpp"
+#include "dorado/testing/dataset_events.hpp"
 
 namespace dorado::io {
 namespace {
@@ -68,30 +69,13 @@ class ImuFileTest : public ::testing::Test {
         return config;
     }
 
-    static std::vector<DatasetEvent> ReadAll(const DatasetConfig &config) {
-        auto reader = OpenDataset(config);
-        std::vector<DatasetEvent> events;
-        DatasetEvent e;
-        while (reader->Next(e)) events.push_back(e);
-        return events;
-    }
-
-    // The message of the DatasetError that reading the whole stream throws ("" when none).
-    static std::string ReadError(const DatasetConfig &config) {
-        try {
-            (void)ReadAll(config);
-        } catch (const DatasetError &e) {
-            return e.what();
-        }
-        return "";
-    }
-
     fs::path dir_;
 };
 
 TEST_F(ImuFileTest, SamplesGoOutBeforeTheFirstScanAfterThemWithTheirValues) {
     // 0.05, 0.10 (the first scan's stamp: in its interval), 0.15, 0.25 and 0.35 s (after the last).
-    const auto events = ReadAll(Config(WriteImu({50000, 100000, 150000, 250000, 350000})));
+    const auto events =
+        testing::ReadAllEvents(Config(WriteImu({50000, 100000, 150000, 250000, 350000})));
     std::string order;
     for (const auto &e : events) order += e.kind == DatasetEvent::Kind::kImu ? 'i' : 's';
     EXPECT_EQ(order, "iisisisi");
@@ -138,12 +122,13 @@ TEST_F(ImuFileTest, BadFilesAreRefusedNamingTheFileAndTheRecord) {
     };
     for (const auto &c : cases) {
         const std::string path = WriteText(c.text);
-        const std::string message = ReadError(Config(path));
+        const std::string message = testing::ReadAllEventsError(Config(path));
         EXPECT_NE(message.find(path), std::string::npos) << c.text << " -> " << message;
         EXPECT_NE(message.find(c.expected), std::string::npos) << c.text << " -> " << message;
     }
-    EXPECT_NE(ReadError(Config((dir_ / "missing.json").string())).find("cannot open"),
-              std::string::npos);
+    EXPECT_NE(
+        testing::ReadAllEventsError(Config((dir_ / "missing.json").string())).find("cannot open"),
+        std::string::npos);
 }
 
 TEST_F(ImuFileTest, TheDescriptionReadsAndWritesTheSection) {

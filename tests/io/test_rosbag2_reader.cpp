@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "dorado/io/dataset.hpp"
+#include "dorado/testing/dataset_events.hpp"
 
 namespace dorado::io {
 namespace {
@@ -51,14 +52,6 @@ class Rosbag2ReaderTest : public ::testing::Test {
         return config;
     }
 
-    static std::vector<DatasetEvent> ReadAll(const DatasetConfig &config) {
-        auto reader = OpenDataset(config);
-        std::vector<DatasetEvent> events;
-        DatasetEvent e;
-        while (reader->Next(e)) events.push_back(e);
-        return events;
-    }
-
     static std::vector<DatasetEvent> OfKind(const std::vector<DatasetEvent> &events,
                                             DatasetEvent::Kind kind) {
         std::vector<DatasetEvent> out;
@@ -88,7 +81,7 @@ class Rosbag2ReaderTest : public ::testing::Test {
     /// The problems, one string each, after checking that the readable scans are exact.
     static std::vector<std::string> ScansAndProblems(const std::string &bag,
                                                      const std::vector<int> &good_scans) {
-        const auto events = ReadAll(Config(bag));
+        const auto events = testing::ReadAllEvents(Config(bag));
         const auto scans = OfKind(events, DatasetEvent::Kind::kRadarScan);
         EXPECT_EQ(scans.size(), good_scans.size()) << bag;
         for (std::size_t j = 0; j < std::min(scans.size(), good_scans.size()); ++j)
@@ -110,7 +103,7 @@ TEST_F(Rosbag2ReaderTest, EveryStorageGivesTheWrittenMessagesInTimeOrder) {
         SCOPED_TRACE(bag);
         DatasetConfig config = Config(bag, "/odom");
         config.rosbag.imu_topic = "/imu";
-        const auto events = ReadAll(config);
+        const auto events = testing::ReadAllEvents(config);
         ASSERT_EQ(events.size(), 5u + 20u + 5u);
         const auto scans = OfKind(events, DatasetEvent::Kind::kRadarScan);
         ASSERT_EQ(scans.size(), static_cast<std::size_t>(kScans));
@@ -189,7 +182,7 @@ TEST_F(Rosbag2ReaderTest, UnsupportedCompressionSkipsOnlyThatChunk) {
 TEST_F(Rosbag2ReaderTest, TruncatedFilesKeepTheScansBeforeTheCut) {
     for (const char *bag : {"truncated_mcap.mcap", "truncated_db3.db3"}) {
         SCOPED_TRACE(bag);
-        const auto events = ReadAll(Config(bag));
+        const auto events = testing::ReadAllEvents(Config(bag));
         const auto scans = OfKind(events, DatasetEvent::Kind::kRadarScan);
         EXPECT_GE(scans.size(), 1u);
         EXPECT_LT(scans.size(), static_cast<std::size_t>(kScans));
@@ -238,7 +231,8 @@ TEST_F(Rosbag2ReaderTest, CommandLinePathsResolveToTheRecording) {
         const DatasetConfig config = ResolveDataset((dir_ / bag).string());
         EXPECT_EQ(config.reader, ReaderKind::kRosbag);
         EXPECT_EQ(config.rosbag.path, (dir_ / bag).string());
-        EXPECT_EQ(OfKind(ReadAll(config), DatasetEvent::Kind::kRadarScan).size(), 5u);
+        EXPECT_EQ(OfKind(testing::ReadAllEvents(config), DatasetEvent::Kind::kRadarScan).size(),
+                  5u);
     }
     EXPECT_THROW((void)ResolveDataset((dir_ / "nometa").string()), ConfigError);
 }
