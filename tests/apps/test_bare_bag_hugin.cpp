@@ -86,7 +86,10 @@ TEST(BareBagHugin, TheLaunchFileMountGivesTheTrueVelocity) {
     xi << 1.5, 0, 0, 0, 0.05, 0.3;
     const Eigen::Isometry3d truth = first.T_world_body * dorado::ExpSE3(xi * T);
     EXPECT_LT((last.T_world_body.translation() - truth.translation()).norm(), 0.1);
-    EXPECT_LT(dorado::RotationAngle(last.T_world_body.linear().transpose() * truth.linear()), 0.02);
+    // 0.03 rad: the angular-rate prior (0.2 rad/s) pulls the steady 0.05 rad/s pitch rate a few
+    // percent towards zero (0.023 rad after 4.9 s); the calibration composed the wrong way round
+    // is 0.05 rad/s of yaw rate, 0.25 rad.
+    EXPECT_LT(dorado::RotationAngle(last.T_world_body.linear().transpose() * truth.linear()), 0.03);
     fs::remove_all(dir);
 }
 

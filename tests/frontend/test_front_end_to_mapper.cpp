@@ -164,8 +164,10 @@ struct RolledDrive {
 
 // The ground in the mapper's prior (refinement none: the front end's prior filter): the first
 // ground observation sets the start's roll and pitch, so the map is built level with the road and
-// every pose has the true roll (measured within 0.3 deg). Without the ground the poses keep most
-// of the start's 3 deg error (measured 2.56 to 3.08 deg).
+// every pose has the true roll (measured within 0.61 deg: the registration's roll on this sparse
+// 1-s drive wanders by +-0.3 deg more with the angular-rate prior's 0.2 rad/s than with 0.5; the
+// start's error is 3 deg). Without the ground the poses keep most of the start's 3 deg error
+// (measured 2.65 to 3.37 deg).
 TEST(FrontEndToMapper, TheGroundInThePriorLevelsARolledStart) {
     const RolledDrive drive(10);
     FrontEndConfig config;
@@ -177,7 +179,7 @@ TEST(FrontEndToMapper, TheGroundInThePriorLevelsARolledStart) {
         std::printf("%zu: roll, pitch error [deg] %.3f %.3f with the ground, %.3f %.3f without\n",
                     k, with.roll_pitch_error_deg[k].x(), with.roll_pitch_error_deg[k].y(),
                     without.roll_pitch_error_deg[k].x(), without.roll_pitch_error_deg[k].y());
-        EXPECT_LT(with.roll_pitch_error_deg[k].cwiseAbs().maxCoeff(), 0.5)
+        EXPECT_LT(with.roll_pitch_error_deg[k].cwiseAbs().maxCoeff(), 0.75)
             << k << ": roll, pitch error [deg] " << with.roll_pitch_error_deg[k].transpose();
         EXPECT_GT(std::abs(without.roll_pitch_error_deg[k].x()), 2.0) << k;
     }

@@ -88,7 +88,9 @@ TEST(RadarFrontEnd, ADopplerPriorFromFewPointsLeansOnTheLastMotion) {
         EXPECT_EQ(results[6].prior_used, PriorKind::kDoppler);
         rotation_variance[fuse] = results[6].prior.covariance.bottomRightCorner<3, 3>().trace();
     }
-    EXPECT_LT(rotation_variance[1], 0.5 * rotation_variance[0])
+    // The angular-rate prior already caps the roll and pitch rates' variance of the Doppler
+    // prior (0.2 rad/s): the fusion with the last motion removes at least a third of the rest.
+    EXPECT_LT(rotation_variance[1], 0.67 * rotation_variance[0])
         << rotation_variance[1] << " vs " << rotation_variance[0];
 }
 

@@ -232,7 +232,16 @@ TEST(KinematicModel, PlausibleTwistCovarianceMatchesMonteCarloNearTheYIcrAxis) {
 // Where eq. (5) is well conditioned the prior barely moves the estimate.
 TEST(KinematicModel, PlausibleTwistKeepsAWellObservedTwist) {
     const Extrinsics e = MakeExtrinsics();
-    const VehicleGeometry g{0.256, KinematicModelNoise{}};
+    // Well observed: a stiff vehicle (model violations of mm/s) and a precise radar velocity give
+    // rates to ~0.02 rad/s, ten times tighter than the prior's 0.2 rad/s spread of roll and pitch
+    // rates. With the default violations (5 cm/s vertical over this mount's 0.94 m lever to the
+    // Y-ICR) the pitch rate is known to ~0.06 rad/s only, and the prior rightly pulls it.
+    KinematicModelNoise stiff;
+    stiff.sigma_icr_x_m = 0.01;
+    stiff.sigma_lateral_mps = 0.002;
+    stiff.sigma_vertical_mps = 0.005;
+    stiff.sigma_roll_rate_radps = 0.005;
+    const VehicleGeometry g{0.256, stiff};
     const KinematicModel model(e, g);
     Eigen::Vector3d v_base, omega;
     const VehicleMotion motion = model.Motion(RadarVelocity(e, g, 5.0, 0.1, 0.4, &v_base, &omega),
