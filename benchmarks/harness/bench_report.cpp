@@ -108,7 +108,7 @@ eval::Statistics PooledStatistics(const std::vector<const RunEvaluation *> &grou
     return eval::ComputeStatistics(Finite(values));
 }
 
-// p95 of the pooled time per scan of a group of runs (issue 16).
+// p95 of the pooled time per scan of a group of runs.
 double PooledTimeP95(const std::vector<const RunEvaluation *> &group) {
     std::vector<double> t;
     for (const RunEvaluation *e : group)

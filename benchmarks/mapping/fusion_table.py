@@ -29,8 +29,8 @@ def main():
             reader = csv.reader(f)
             header = next(reader)
             for cells in reader:
-                # a grid variant of two keys has a comma in its name, which results.csv quotes since
-                # issue 30 (folders written before did not: their extra cells are joined back)
+                # a grid variant of two keys has a comma in its name, which results.csv quotes
+                # (folders written by older builds did not: their extra cells are joined back)
                 extra = len(cells) - len(header)
                 cells = [cells[0], ",".join(cells[1:2 + extra])] + cells[2 + extra:]
                 row = dict(zip(header, cells))

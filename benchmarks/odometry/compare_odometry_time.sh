@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Odometry time per scan of two dorado binaries, side by side on the same simulated sequences
-# (issue 34: "odometry time per scan <= 0.5x today's median"). Runs A and B alternately `reps`
+# (a speed-up is judged as the ratio B/A). Runs A and B alternately `reps`
 # times per sequence (so that machine load hits both alike) and prints, per sequence, the median
 # over runs of summary.json's time_per_scan_ms median and p95, and the ratio B/A.
 # The sequences are simulated by A (the baseline, usually the older binary: a newer dorado reads an

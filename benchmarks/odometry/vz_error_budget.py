@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Where the vertical-velocity error of the Doppler ego-velocity comes from (issue 23).
+"""Where the vertical-velocity error of the Doppler ego-velocity comes from.
 
     DORADO=build/apps/dorado /usr/bin/python3 benchmarks/odometry/vz_error_budget.py [--out DIR]
         [--duration S] [--sequences seq04,seq06,seq08,car_urban]

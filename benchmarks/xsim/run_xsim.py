@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The second world in the bench (issue 40, item 1): dorado on ../shared/xsim scenarios, several seeds per
+"""The second world in the bench: dorado on ../shared/xsim scenarios, several seeds per
 scenario kind, scored against the exact trajectory, with each kind's WORST seed beside its mean.
 
     benchmarks/xsim/run_xsim.py --out DIR [--dorado build/apps/dorado] [--xsim ../shared/xsim]
@@ -26,7 +26,7 @@ static->1 / static->3 = the share of the static points (not movers, not ghosts) 
 (precision depends on how many movers a kind has; these do not).
 Map runs get --masks when this dorado's `map --help` lists it (labels 0 static, 1 dynamic, 2 filtered, 3 kept
 out by the mover rules: 1 and 3 count as dynamic); a run without masks/ is scored on the odometry's.
-Heading criterion (issue 40, the plaza): doppler map's max heading error <= imu map's + 2 deg.
+Heading criterion (the plaza): doppler map's max heading error <= imu map's + 2 deg.
 
 Writes DIR/results[_TAG].csv (one row per kind, seed, run) and DIR/results[_TAG].md (the printed tables).
 """

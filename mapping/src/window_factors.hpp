@@ -1,5 +1,5 @@
 #pragma once
-// Internal: the fixed-lag smoother's Ceres factors (issue 15), after Ceres' pose_graph_3d. A state
+// Internal: the fixed-lag smoother's Ceres factors, after Ceres' pose_graph_3d. A state
 // is a pose (p: 3, q: 4 in Eigen's x y z w order on ceres::EigenQuaternionManifold, T_world_base)
 // and a body twist (v: 3, w: 3, the base frame's linear and angular velocity in the base frame).
 // Every residual is whitened (r^T r = squared Mahalanobis norm) and every Jacobian is analytic

@@ -1,4 +1,4 @@
-// A bare .bag is read with the paper's Hugin defaults, mount included (issue 13, part 2): a bag
+// A bare .bag is read with the paper's Hugin defaults, mount included: a bag
 // mounted as the paper's Hugin (make_hugin_mount_bag.py, which derives the mount from the launch
 // values on its own) gives the vehicle's true velocity through `dorado odometry data.bag`.
 #include <gtest/gtest.h>

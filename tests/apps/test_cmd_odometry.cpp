@@ -220,7 +220,7 @@ TEST_F(CmdOdometry, BadInputGivesOneClearError) {
 }
 
 // A wrong field map (fields.doppler names no channel) makes every scan unreadable: a few lines,
-// one summary per cause, then the error; not one warning per scan (issue 14).
+// one summary per cause, then the error; not one warning per scan.
 TEST_F(CmdOdometry, AWrongFieldMapIsSummarisedNotOneLinePerScan) {
     std::ifstream in(Dataset());
     std::stringstream yaml;

@@ -1,4 +1,4 @@
-// One truth per default (issue 29): the shipped configs/odometry.yaml and configs/mapper.yaml
+// One truth per default: the shipped configs/odometry.yaml and configs/mapper.yaml
 // load to exactly the structs' built-in defaults, write every key the reader accepts,
 // docs/config_keys.md is what the field lists generate, and every key reads back a value that
 // differs from its default (so no key is read into the wrong member or dropped).

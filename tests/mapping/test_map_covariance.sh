@@ -4,7 +4,7 @@
 # 3-dof block must lie in the chi-square mean 3 within a factor 2 (model error, correlated samples) for the
 # rotation, [1.5, 6]; the translation's band is [0.6, 6], because the translation is the Doppler prior's, whose
 # covariance is knowingly conservative per frame by two factors of ~2: the direction-noise compensation (EIV, the
-# default since issue 31: 1.87 / 1.46 with it, 2.09 / 1.69 without) and the trapezoid twist (issue 30: an
+# default: 1.87 / 1.46 with it, 2.09 / 1.69 without) and the trapezoid twist (an
 # interval's covariance is its share of a sum over many intervals, (C_prev + C) / 2, twice the one frame's,
 # because consecutive intervals share a scan; 0.94 / 0.79 with it). docs/covariance.md.
 # Mutations, each of which must fail on EACH sequence:

@@ -261,7 +261,7 @@ TEST(RadarMapper, ShortDriveStaysWithinStatedRpe) {
 }
 
 // The window smoother (refinement: window) on the same drive: the same stated accuracy, and at
-// least as good as the single-pose refinement per frame (its purpose, issue 15).
+// least as good as the single-pose refinement per frame (its purpose).
 TEST(RadarMapper, WindowSmootherShortDrive) {
     const DriveResult window = Drive(40, true, Refinement::kWindow);
     const DriveResult single = Drive(40, true, Refinement::kCeres);

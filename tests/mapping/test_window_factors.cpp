@@ -1,4 +1,4 @@
-// The window smoother's factors (issue 15): analytic Jacobians against numeric differences with
+// The window smoother's factors: analytic Jacobians against numeric differences with
 // ceres::GradientChecker, residual values against independent computations (finite differences of
 // a rigid motion, a simulated random walk).
 #include <ceres/gradient_checker.h>

@@ -1,4 +1,4 @@
-// The window smoother (issue 15) on a noisy constant-twist scene: Doppler of static points at every
+// The window smoother on a noisy constant-twist scene: Doppler of static points at every
 // scan, the kinematic model, no map. With a nearly rigid WNOA prior the window averages the scans'
 // Doppler, so the newest twist's error falls as 1 / sqrt(number of scans in the window) =
 // 1 / sqrt(K + 1) (K free states plus the anchor, whose twist is estimated too).

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""dorado_ros against the real thing (issue 14): a rosmaster on a free port, the node, `rosbag play`
+"""dorado_ros against the real thing: a rosmaster on a free port, the node, `rosbag play`
 of a simulated bag at 1x and 5x, a bag with out-of-order and duplicate stamps, and a wrong field
 map. Skipped (exit 77) where ROS1 is absent.
 Usage: test_dorado_ros.py DORADO DORADO_ROS"""

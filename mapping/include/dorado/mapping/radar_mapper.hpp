@@ -111,8 +111,8 @@ struct MapperConfig {
     /// information there (the prior carries the pose); across the others the map does. 0: off.
     double registration_weak_ratio = 0.0;
     /// With a prior built from the Doppler velocity (doppler, imu+doppler), let the Doppler
-    /// residuals join the registered pose's step anyway (counted a second time there; issue 30's
-    /// A/B). The output's step never counts them twice.
+    /// residuals join the registered pose's step anyway (counted a second time there; an
+    /// A/B switch). The output's step never counts them twice.
     bool doppler_in_registration = false;
     /// refinement filter: build the map from the filter's poses, so that the map, the output and
     /// its covariance are one chain (one estimator), instead of from the registered poses (two

@@ -1,6 +1,6 @@
 #pragma once
 /// @file window_smoother.hpp
-/// A fixed-lag smoother over the last K scans (issue 15, `refinement: window`): a pose and a body
+/// A fixed-lag smoother over the last K scans (`refinement: window`): a pose and a body
 /// twist per scan (and one gyro bias when gyro rates are given), estimated jointly by Ceres from
 /// scan-to-map registration residuals, Doppler residuals of the static points, a
 /// white-noise-on-acceleration motion prior between consecutive states (as steam_icp), the paper's

@@ -126,7 +126,7 @@ struct EgoVelocityConfig {
     /// (benchmarks/odometry/vz_error_budget.py) finds elevation noise the one systematic v_z error
     /// of the simulated Husky scans (-3 to -4 mm/s at 1-1.7 m/s, 0.4-0.5 deg/s of pitch rate
     /// through eq. 5), which this removes; pooled over 11 sequences the odometry's roll/pitch
-    /// error drops from 3.9/4.3 to 2.9/3.0 deg (docs/attitude.md). The default since issue 31:
+    /// error drops from 3.9/4.3 to 2.9/3.0 deg (docs/attitude.md). The default:
     /// over 3 simulator seeds of each of the 10 built-in sequences it wins pooled (ATE rotation
     /// 17.0 -> 15.4 deg, ATE 1.98 -> 0.76 m) and loses none by more than the seeds' noise
     /// (docs/attitude.md, section 6).

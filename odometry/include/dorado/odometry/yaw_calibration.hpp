@@ -20,7 +20,7 @@ namespace dorado::odometry {
 
 struct YawCalibrationConfig {
     /// Estimate s_x online and feed it back to the kinematic model (the odometry and the next
-    /// priors). false: the configured s_x throughout (the paper). On by default since issue 31:
+    /// priors). false: the configured s_x throughout (the paper). On by default:
     /// the doppler-prior maps' yaw drift -69 %, ATE rotation -58 % pooled over the 10 built-in
     /// sequences, no sequence worse beyond the seeds' noise (docs/attitude.md, section 7).
     bool enabled = true;
