@@ -117,6 +117,7 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
     skips.PrintSummary();
     guard.ThrowIfNoScanUsed(sweeps, reader->source());
 
+    outputs.AddWritten(front_end.Finish());  // the sweeps still in the smoother
     outputs.Write(out_dir, front_end.trajectory());
     WriteCalibratedMounts(out_dir, dataset, front_end.twist_filter());
     nlohmann::json radars = nlohmann::json::array();
