@@ -2,6 +2,7 @@
 // (first scan, too few points, planar or 3-D), the smoother's step and the map update
 // (mapper_state.hpp).
 #include <chrono>
+#include <cmath>
 #include <string>
 #include <utility>
 
@@ -34,16 +35,31 @@ ScanEstimate EstimateOf(const PlanarRegistration &reg) {
     return out;
 }
 
-// The registered pose z against the prediction (P its covariance), the registration's
-// information I (possibly singular: zero where the map does not observe): nu^T S^-1 nu with
-// nu = Log(prediction^-1 z), S = P + I^-1, S^-1 = I - I (P^-1 + I)^-1 I (zero along I's null
-// space).
-double InnovationMahalanobisSquared(const MotionPrior &prediction, const RegisteredPose &z) {
-    const Vector6d nu = LogSE3(prediction.T_world_base.inverse() * z.T_world_base);
-    const Matrix6d &I = z.information;
-    const Matrix6d A = CovarianceFromInformation(prediction.covariance) + I;
-    const Matrix6d S_inv = I - I * A.ldlt().solve(I);
+// The registered pose z against the prediction (P its covariance), with the registration's
+// information w I (possibly singular: zero where the map does not observe): nu^T S^-1 nu with
+// nu = Log(prediction^-1 z), S = P + (w I)^-1, S^-1 = w I - w I (P^-1 + w I)^-1 w I (zero along
+// I's null space).
+double InnovationMahalanobisSquared(const Vector6d &nu, const Matrix6d &P_inv, const Matrix6d &I,
+                                    double w) {
+    const Matrix6d wI = w * I;
+    const Matrix6d S_inv = wI - wI * (P_inv + wI).ldlt().solve(wI);
     return nu.dot(S_inv * nu);
+}
+
+// The registration's weight: 1 when it agrees with the prediction within max_chi2; otherwise its
+// information is scaled down until it does (its covariance inflated to explain the innovation),
+// so that a wrong registration moves the pose by a few of the prediction's sigmas at most, and a
+// right one against a wrong prediction still pulls it back over a few scans. Bisection on log w
+// (the distance grows with w).
+double RegistrationWeight(double m2, const Vector6d &nu, const Matrix6d &P_inv, const Matrix6d &I,
+                          double max_chi2) {
+    if (!(m2 > max_chi2)) return 1.0;
+    double lo = -30.0, hi = 0.0;  // log w
+    for (int i = 0; i < 40; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (InnovationMahalanobisSquared(nu, P_inv, I, std::exp(mid)) > max_chi2 ? hi : lo) = mid;
+    }
+    return std::exp(lo);
 }
 
 }  // namespace
@@ -116,11 +132,14 @@ std::vector<WrittenPose> RadarMapper::State::Smooth(PendingScan scan, const Moti
     in.motion_covariance = prior.covariance;
     const RegisteredPose &registered = estimate.registered;
     if (!estimate.fallback() && !estimate.first_scan && registered.valid) {
-        // A registration far from the prediction is down-weighted, not thrown away (Cauchy on
-        // its squared Mahalanobis distance).
-        result.prior_mahalanobis_squared = InnovationMahalanobisSquared(prediction, registered);
+        // A registration far from the prediction is down-weighted, not thrown away.
+        const Vector6d nu = LogSE3(prediction.T_world_base.inverse() * registered.T_world_base);
+        const Matrix6d P_inv = CovarianceFromInformation(prediction.covariance);
+        result.prior_mahalanobis_squared =
+            InnovationMahalanobisSquared(nu, P_inv, registered.information, 1.0);
         result.registration_weight =
-            1.0 / (1.0 + result.prior_mahalanobis_squared / config.smoother.registration_kernel_chi2);
+            RegistrationWeight(result.prior_mahalanobis_squared, nu, P_inv, registered.information,
+                               config.smoother.max_registration_chi2);
         in.T_world_base_registered = registered.T_world_base;
         in.registration_information = result.registration_weight * registered.information;
         // kiss-icp: the threshold adapts to how far registration corrected the prediction.

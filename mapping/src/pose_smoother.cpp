@@ -45,6 +45,7 @@ Matrix6d SqrtOfInverse(const Matrix6d &covariance) {
 struct Normal {
     MatrixXd H;
     VectorXd g;
+    double cost = 0.0;  ///< half the squared whitened residuals
     explicit Normal(int poses) : H(MatrixXd::Zero(6 * poses, 6 * poses)), g(VectorXd::Zero(6 * poses)) {}
 
     template <int Rows>
@@ -52,6 +53,7 @@ struct Normal {
                   const Eigen::Matrix<double, Rows, 1> &r) {
         H.block<6, 6>(6 * i, 6 * i) += J.transpose() * J;
         g.segment<6>(6 * i) += J.transpose() * r;
+        cost += 0.5 * r.squaredNorm();
     }
     void AddBinary(int i, const Matrix6d &J_i, int j, const Matrix6d &J_j, const Vector6d &r) {
         H.block<6, 6>(6 * i, 6 * i) += J_i.transpose() * J_i;
@@ -60,8 +62,17 @@ struct Normal {
         H.block<6, 6>(6 * j, 6 * i) += J_j.transpose() * J_i;
         g.segment<6>(6 * i) += J_i.transpose() * r;
         g.segment<6>(6 * j) += J_j.transpose() * r;
+        cost += 0.5 * r.squaredNorm();
     }
 };
+
+// T * Exp(xi) with its rotation re-orthonormalised: products of many small steps drift off SO(3),
+// and an isometry's inverse (the transpose) is then no inverse at all.
+Eigen::Isometry3d Plus(const Eigen::Isometry3d &T, const Vector6d &xi) {
+    Eigen::Isometry3d out = T * ExpSE3(xi);
+    out.linear() = Eigen::Quaterniond(out.linear()).normalized().toRotationMatrix();
+    return out;
+}
 
 // The ground's residual and Jacobian at R_world_base: u = R^T e_z, du/dphi = [u]x.
 void AddGround(Normal &normal, int i, const GroundUp &ground, const Eigen::Matrix3d &R_world_base) {
@@ -82,8 +93,8 @@ void SmootherConfig::Validate() const {
         throw std::invalid_argument("mapper.smoother." + key + ": " + why);
     };
     if (!(std::isfinite(lag_s) && lag_s >= 0.0)) fail("lag_s", "must be finite and >= 0");
-    if (!(std::isfinite(registration_kernel_chi2) && registration_kernel_chi2 > 0.0))
-        fail("registration_kernel_chi2", "must be finite and > 0");
+    if (!(std::isfinite(max_registration_chi2) && max_registration_chi2 > 0.0))
+        fail("max_registration_chi2", "must be finite and > 0");
     if (max_iterations < 1) fail("max_iterations", "must be >= 1");
 }
 
@@ -96,11 +107,11 @@ Eigen::Isometry3d PoseSmoother::Add(const SmootherScan &scan) {
     state.scan = scan;
     if (states_.empty()) {
         // The first scan: the map's origin, held by a stiff anchor (the gauge).
-        state.T_world_base = scan.motion;
-        anchor_mean_ = scan.motion;
+        state.T_world_base = Plus(scan.motion, Vector6d::Zero());
+        anchor_mean_ = state.T_world_base;
         anchor_sqrt_information_ = Matrix6d::Identity() * 1e6;
     } else {
-        state.T_world_base = states_.back().T_world_base * scan.motion;
+        state.T_world_base = Plus(states_.back().T_world_base * scan.motion, Vector6d::Zero());
     }
     if (scan.T_world_base_registered)
         state.registration_sqrt_information = SqrtOfInformation(scan.registration_information);
@@ -158,14 +169,30 @@ void PoseSmoother::Solve() {
         }
         return normal;
     };
+    // Levenberg-Marquardt: a Gauss-Newton step, damped until the cost goes down (a registration
+    // far from the others makes the first-order Jacobians poor).
+    std::vector<Eigen::Isometry3d> poses(static_cast<std::size_t>(n));
     for (int iteration = 0; iteration < config_.max_iterations; ++iteration) {
         const Normal normal = build();
-        const Eigen::LDLT<MatrixXd> ldlt(normal.H);
-        const VectorXd dx = -ldlt.solve(normal.g);
-        if (!dx.allFinite()) break;
-        for (int i = 0; i < n; ++i)
-            states_[static_cast<std::size_t>(i)].T_world_base =
-                states_[static_cast<std::size_t>(i)].T_world_base * ExpSE3(dx.segment<6>(6 * i));
+        for (int i = 0; i < n; ++i) poses[i] = states_[static_cast<std::size_t>(i)].T_world_base;
+        double lambda = 0.0;
+        bool improved = false;
+        VectorXd dx;
+        for (int attempt = 0; attempt < 8 && !improved; ++attempt) {
+            MatrixXd H = normal.H;
+            H.diagonal() += lambda * normal.H.diagonal();
+            dx = -Eigen::LDLT<MatrixXd>(H).solve(normal.g);
+            if (!dx.allFinite()) break;
+            for (int i = 0; i < n; ++i)
+                states_[static_cast<std::size_t>(i)].T_world_base =
+                    Plus(poses[i], dx.segment<6>(6 * i));
+            improved = build().cost <= normal.cost * (1.0 + 1e-12) + 1e-15;
+            lambda = lambda == 0.0 ? 1e-3 : 10.0 * lambda;
+        }
+        if (!improved) {  // no step lowers the cost: the window stays where it was
+            for (int i = 0; i < n; ++i) states_[static_cast<std::size_t>(i)].T_world_base = poses[i];
+            break;
+        }
         if (dx.lpNorm<Eigen::Infinity>() < 1e-9) break;
     }
     const Normal normal = build();
@@ -216,7 +243,7 @@ std::optional<SmoothedPose> PoseSmoother::PopOldest() {
                              local.H.block<6, 6>(6, 0) * H00_ldlt.solve(local.g.head<6>());
         const Matrix6d H_sym = 0.5 * (H_p + H_p.transpose());
         const Vector6d shift = -H_sym.ldlt().solve(g_p);
-        anchor_mean_ = next.T_world_base * ExpSE3(shift.allFinite() ? shift : Vector6d::Zero());
+        anchor_mean_ = Plus(next.T_world_base, shift.allFinite() ? shift : Vector6d::Zero());
         anchor_sqrt_information_ = SqrtOfInformation(H_sym);
     }
     states_.pop_front();

@@ -62,9 +62,9 @@ void VisitFields(MoverConfig &c, Visitor &&v) {
 template <typename Visitor>
 void VisitFields(SmootherConfig &c, Visitor &&v) {
     v("lag_s", c.lag_s, "a pose is written (and enters the map) this long after its scan [s]");
-    v("registration_kernel_chi2", c.registration_kernel_chi2,
-      "a registration at squared Mahalanobis distance m2 from the prediction counts "
-      "1 / (1 + m2 / this)");
+    v("max_registration_chi2", c.max_registration_chi2,
+      "a registration farther from the prediction (squared Mahalanobis) is down-weighted to "
+      "this distance");
     v("max_iterations", c.max_iterations, "Gauss-Newton iterations per scan");
 }
 

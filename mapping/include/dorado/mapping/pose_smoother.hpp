@@ -28,9 +28,10 @@ struct SmootherConfig {
     /// A pose is written once the newest scan is this much later than it [s] (0: every pose is
     /// written at once, a filter).
     double lag_s = 1.0;
-    /// The registration's robust loss: a registration at squared Mahalanobis distance m2 from
-    /// the prediction (under both covariances) counts with weight 1 / (1 + m2 / this) (Cauchy).
-    double registration_kernel_chi2 = 25.0;
+    /// A registration farther than this squared Mahalanobis distance from the prediction (under
+    /// both covariances) counts with its information scaled down until it is this far (the
+    /// mapper's robust weighting; 25: beyond the 99.9 % of 6 degrees of freedom).
+    double max_registration_chi2 = 25.0;
     int max_iterations = 3;  ///< Gauss-Newton iterations per scan
 
     /// Throws std::invalid_argument naming the first bad key.
