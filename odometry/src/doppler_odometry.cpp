@@ -213,12 +213,18 @@ void DopplerOdometry::CorrectAttitude(const RadarScan &scan_radar, OdometryStep 
         step.ground.cov_roll_pitch = ground_filter_.covariance();
         return;
     }
-    // Frames: x_base = T_base_radar x_radar; the ground is sought among the static points.
-    const Eigen::Matrix3Xd points_base = T_base_radar_ * scan_radar.xyz_radar;
-    std::vector<bool> use(step.ego.labels.size());
-    for (std::size_t i = 0; i < use.size(); ++i) use[i] = step.ego.labels[i] == PointLabel::kStatic;
+    // Frames: x_base = T_base_radar x_radar; the ground is sought among the static points, in
+    // their order in the scan (only they are moved to the base frame).
+    const std::vector<PointLabel> &labels = step.ego.labels;
+    const auto static_count = std::count(labels.begin(), labels.end(), PointLabel::kStatic);
+    Eigen::Matrix3Xd static_radar(3, static_count);
+    for (Eigen::Index i = 0, k = 0; i < scan_radar.size(); ++i)
+        if (labels[static_cast<std::size_t>(i)] == PointLabel::kStatic)
+            static_radar.col(k++) = scan_radar.xyz_radar.col(i);
+    const Eigen::Matrix3Xd static_base = T_base_radar_ * static_radar;
     const GroundObservation observation =
-        FitGroundPlane(ground_filter_.config().plane, points_base, use);
+        FitGroundPlane(ground_filter_.config().plane, static_base,
+                       std::vector<bool>(static_cast<std::size_t>(static_count), true));
     step.ground = ground_filter_.Update(observation, step.v_base_used_mps.norm() * step.dt_s,
                                         T_world_base_.linear());
     T_world_base_.linear() = step.ground.R_world_base;

@@ -145,6 +145,9 @@ GroundObservation FitGroundPlane(const GroundPlaneConfig &c, const Eigen::Matrix
     }
     const double tan_tilt = std::tan(DegToRad(c.max_tilt_deg));
     Candidates candidates;
+    candidates.xyz.Reserve(static_cast<std::size_t>(p.cols()));
+    candidates.range.reserve(static_cast<std::size_t>(p.cols()));
+    candidates.horizontal.reserve(static_cast<std::size_t>(p.cols()));
     for (Eigen::Index i = 0; i < p.cols(); ++i) {
         if (static_cast<std::size_t>(i) >= use.size() || !use[static_cast<std::size_t>(i)])
             continue;
@@ -181,6 +184,8 @@ GroundObservation FitGroundPlane(const GroundPlaneConfig &c, const Eigen::Matrix
     PlaneFit fit;
     std::vector<int> inliers;
     std::vector<double> w;
+    inliers.reserve(xyz.size);
+    w.reserve(xyz.size);
     double scale = 1.0;  // the residuals' variance relative to the model's, from the last round
     for (int round = 0; round < 3; ++round) {
         inliers.clear();

@@ -16,7 +16,8 @@ struct PlanePoints {
     std::vector<double> x, y, z;
     std::size_t size = 0;  ///< real points; the columns hold size rounded up to kLanes
 
-    void Clear() { x.clear(), y.clear(), z.clear(), size = 0; }
+    /// Room for n points and their padding.
+    void Reserve(std::size_t n) { x.reserve(n + kLanes), y.reserve(n + kLanes), z.reserve(n + kLanes); }
     void Add(double px, double py, double pz) {
         x.push_back(px), y.push_back(py), z.push_back(pz), ++size;
     }
