@@ -35,19 +35,33 @@ struct PlaneFit {
 
 PlaneFit WeightedPlane(const PlanePoints &p, const std::vector<int> &idx,
                        const std::vector<double> &w) {
-    PlaneFit fit;
-    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+    // sum w a a^T and sum w a z with a = (1, x, y), each term rounded as (w a_i) a_j and
+    // (w a_i) z (Eigen's outer product), the sums in the points' order.
+    double n00 = 0.0, n01 = 0.0, n02 = 0.0, n11 = 0.0, n12 = 0.0, n21 = 0.0, n22 = 0.0;
+    double r0 = 0.0, r1 = 0.0, r2 = 0.0;
     for (std::size_t k = 0; k < idx.size(); ++k) {
-        const Eigen::Vector3d a(1.0, p.x[idx[k]], p.y[idx[k]]);
-        fit.normal += w[k] * a * a.transpose();
-        rhs += w[k] * a * p.z[idx[k]];
+        const double x = p.x[idx[k]], y = p.y[idx[k]], z = p.z[idx[k]];
+        const double wk = w[k], wx = wk * x, wy = wk * y;
+        n00 += wk;
+        n01 += wx;
+        n02 += wy;
+        n11 += wx * x;
+        n12 += wx * y;
+        n21 += wy * x;
+        n22 += wy * y;
+        r0 += wk * z;
+        r1 += wx * z;
+        r2 += wy * z;
     }
+    PlaneFit fit;
+    fit.normal << n00, n01, n02, n01, n11, n12, n02, n21, n22;
+    const Eigen::Vector3d rhs(r0, r1, r2);
     const Eigen::LDLT<Eigen::Matrix3d> ldlt(fit.normal);
     if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-10)) return fit;
     fit.theta = ldlt.solve(rhs);
     for (std::size_t k = 0; k < idx.size(); ++k) {
-        const double r =
-            p.z[idx[k]] - fit.theta.dot(Eigen::Vector3d(1.0, p.x[idx[k]], p.y[idx[k]]));
+        const double r = p.z[idx[k]] -
+                         ((fit.theta[0] + fit.theta[1] * p.x[idx[k]]) + fit.theta[2] * p.y[idx[k]]);
         fit.weighted_rss += w[k] * r * r;
     }
     fit.ok = fit.theta.allFinite();
@@ -194,8 +208,7 @@ GroundObservation FitGroundPlane(const GroundPlaneConfig &c, const Eigen::Matrix
         for (std::size_t k = 0; k < xyz.size; ++k) {
             const double var = variance[k];
             const double gate = std::max(c.inlier_threshold_m, 3.0 * std::sqrt(scale * var));
-            if (std::abs(PlaneDistance(theta, norm, xyz.x[k], xyz.y[k], xyz.z[k])) > gate)
-                continue;
+            if (std::abs(PlaneDistance(theta, norm, xyz.x[k], xyz.y[k], xyz.z[k])) > gate) continue;
             inliers.push_back(static_cast<int>(k));
             w.push_back(floor2 / var);
         }

@@ -17,7 +17,9 @@ struct PlanePoints {
     std::size_t size = 0;  ///< real points; the columns hold size rounded up to kLanes
 
     /// Room for n points and their padding.
-    void Reserve(std::size_t n) { x.reserve(n + kLanes), y.reserve(n + kLanes), z.reserve(n + kLanes); }
+    void Reserve(std::size_t n) {
+        x.reserve(n + kLanes), y.reserve(n + kLanes), z.reserve(n + kLanes);
+    }
     void Add(double px, double py, double pz) {
         x.push_back(px), y.push_back(py), z.push_back(pz), ++size;
     }

@@ -430,9 +430,9 @@ TEST(EgoVelocity, MinimalSolveEqualsEigensPartialPivLuBitForBit) {
     for (int trial = 0; trial < 200000; ++trial) {
         Eigen::Matrix3d M;
         for (int i = 0; i < 3; ++i) M.row(i) = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
-        if (trial % 5 == 1) M(1, 0) = -M(0, 0);                       // a tie for the first pivot
-        if (trial % 5 == 2) M.row(2) = M.row(0) + 1e-6 * M.row(1);    // nearly dependent
-        if (trial % 5 == 3) M(0, 0) = M(1, 0) = M(2, 0) = 0.0;        // a zero column
+        if (trial % 5 == 1) M(1, 0) = -M(0, 0);                     // a tie for the first pivot
+        if (trial % 5 == 2) M.row(2) = M.row(0) + 1e-6 * M.row(1);  // nearly dependent
+        if (trial % 5 == 3) M(0, 0) = M(1, 0) = M(2, 0) = 0.0;      // a zero column
         const Eigen::Vector3d r(g(rng), g(rng), g(rng));
         const Eigen::Vector3d expected = M.partialPivLu().solve(r);
         const Eigen::Vector3d got = internal::SolvePartialPivot3(M, r);
