@@ -17,6 +17,7 @@
 #include <mutex>
 #include <thread>
 
+#include "dorado/core/time.hpp"
 #include "dorado/frontend/radar_front_end.hpp"
 #include "live_input.hpp"
 #include "node_settings.hpp"
@@ -41,7 +42,6 @@ class DoradoNode {
     void Shutdown();
 
   private:
-    using Clock = std::chrono::steady_clock;
     struct Pending {
         sensor_msgs::PointCloud2ConstPtr msg;
         Clock::time_point arrival;
