@@ -125,7 +125,13 @@ void ApplyFormatLayout(DatasetConfig &config, bool mount_given) {
             }
         }
     } catch (const DatasetError &e) {
-        throw ConfigError(config.config_path + ": the data set's radars: " + e.what());
+        const bool every_radar = (config.reader == ReaderKind::kRadarScenes &&
+                                  config.radarscenes.sensor_id == 0) ||
+                                 (config.reader == ReaderKind::kNuScenes &&
+                                  config.nuscenes.channel.empty());
+        throw ConfigError(config.config_path + ": " +
+                          (every_radar ? "the data set's radars: " : "the radar's mount: ") +
+                          e.what());
     }
 }
 

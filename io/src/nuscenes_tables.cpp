@@ -138,9 +138,9 @@ std::string NuScenesTablePath(const NuScenesSource &source, const char *table) {
 
 NuScenesScene IndexNuScenesScene(const NuScenesSource &source,
                                  const std::vector<std::string> &channels) {
-    const std::set<std::string> samples = SceneSamples(source);
     const std::map<std::string, std::string> sensors = RadarSensors(source);
     const std::vector<std::string> wanted = ChannelsToRead(source, sensors, channels);
+    const std::set<std::string> samples = SceneSamples(source);
     std::map<std::string, std::size_t> radar_of_sensor;  // sensor token -> index in `wanted`
     for (std::size_t k = 0; k < wanted.size(); ++k) radar_of_sensor[sensors.at(wanted[k])] = k;
     // calibrated_sensor.json: every token (to name a sweep whose calibration has no record), the
