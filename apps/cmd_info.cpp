@@ -84,7 +84,7 @@ void PrintRadars(const io::DatasetConfig &config, ProblemLog &problems) {
         const io::RadarStream &radar = config.radars[k];
         const Eigen::Vector3d t = radar.T_base_radar.translation();
         const double yaw_deg = RadToDeg(RollPitchYaw(radar.T_base_radar.linear()).z());
-        std::printf("  %-12s mount x %6.3f y %6.3f z %5.2f m, yaw %8.3f deg", radar.name.c_str(),
+        std::printf("  %-17s mount x %6.3f y %6.3f z %5.2f m, yaw %8.3f deg", radar.name.c_str(),
                     t.x(), t.y(), t.z(), yaw_deg);
         try {
             io::DatasetConfig one = io::ForRadar(config, k);

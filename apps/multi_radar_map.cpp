@@ -53,10 +53,11 @@ void WriteCalibratedMounts(const std::string &out_dir, const io::DatasetConfig &
             const Eigen::Vector3d t = T.translation();
             os << "  - name: " << radar.name << "  # yaw offset "
                << RadToDeg(filter.mount_yaw_offset_rad(k)) << " +- "
-               << RadToDeg(filter.mount_yaw_sigma_rad(k)) << " deg\n"
-               << "    scans_dir: " << radar.scans_dir << "\n"
-               << "    timestamps_file: " << radar.timestamps_file << "\n"
-               << "    T_base_radar: {translation_m: [" << t.x() << ", " << t.y() << ", " << t.z()
+               << RadToDeg(filter.mount_yaw_sigma_rad(k)) << " deg\n";
+            if (!radar.scans_dir.empty())  // a folder's radar (the data sets' own: no files)
+                os << "    scans_dir: " << radar.scans_dir << "\n"
+                   << "    timestamps_file: " << radar.timestamps_file << "\n";
+            os << "    T_base_radar: {translation_m: [" << t.x() << ", " << t.y() << ", " << t.z()
                << "], rotation_rpy_deg: [" << RadToDeg(rpy.x()) << ", " << RadToDeg(rpy.y()) << ", "
                << RadToDeg(rpy.z()) << "]}\n";
         }
