@@ -27,7 +27,7 @@ struct CalibrateOptions {
     double from_s = -1.0, to_s = -1.0;
     double min_speed_mps = 0.2;
     double window_s = 0.5, rest_s = 1.0;  // doppler-sign
-    io::DatasetChoice choice;              // --scene, --sequence
+    io::DatasetChoice choice;             // --scene, --sequence
 };
 
 /// Per valid, moving scan in the time range: the radar velocity and the mean gyro rate in the base

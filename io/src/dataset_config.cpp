@@ -160,8 +160,9 @@ void ReadRadars(const YAML::Node &root, FieldReader &in, const std::string &yaml
     const YAML::Node list = root["radars"];
     if (!list.IsSequence()) in.Fail("radars", "must be a list of radars");
     if (config.reader != ReaderKind::kFolder)
-        in.Fail("radars", "needs reader: folder (readers radarscenes and nuscenes list their "
-                          "radars from the data set's own files)");
+        in.Fail("radars",
+                "needs reader: folder (readers radarscenes and nuscenes list their "
+                "radars from the data set's own files)");
     for (std::size_t k = 0; k < list.size(); ++k) {
         FieldReader item(YamlSection(list[k], yaml_path, "radars[" + std::to_string(k) + "]"),
                          base_dir);

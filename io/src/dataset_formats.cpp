@@ -74,14 +74,16 @@ void ApplyDatasetChoice(DatasetConfig &config, const DatasetChoice &choice) {
         if (config.reader != ReaderKind::kNuScenes)
             throw ConfigError(DescriptionName(config) + ": --scene " + choice.scene +
                               ": chooses a nuScenes scene (reader nuscenes); this description's "
-                              "reader is " + reader);
+                              "reader is " +
+                              reader);
         config.nuscenes.scene = choice.scene;
     }
     if (choice.sequence.empty()) return;
     if (config.reader != ReaderKind::kRadarScenes)
         throw ConfigError(DescriptionName(config) + ": --sequence " + choice.sequence +
                           ": chooses a RadarScenes sequence (reader radarscenes); this "
-                          "description's reader is " + reader);
+                          "description's reader is " +
+                          reader);
     const bool number = std::all_of(choice.sequence.begin(), choice.sequence.end(),
                                     [](unsigned char c) { return std::isdigit(c); });
     const std::string name = number ? "sequence_" + choice.sequence : choice.sequence;
@@ -94,8 +96,10 @@ void ApplyDatasetChoice(DatasetConfig &config, const DatasetChoice &choice) {
         for (const std::string &s : present) list += (list.empty() ? "" : ", ") + s;
         const auto closest = ClosestName(name, present, 2);
         throw ConfigError(DescriptionName(config) + ": --sequence " + choice.sequence + ": " +
-                          dir.string() + " is not a folder (the sequences beside "
-                          "radarscenes.sequence_dir: " + (list.empty() ? "none" : list) + ")" +
+                          dir.string() +
+                          " is not a folder (the sequences beside "
+                          "radarscenes.sequence_dir: " +
+                          (list.empty() ? "none" : list) + ")" +
                           (closest ? "; did you mean " + *closest + "?" : ""));
     }
     config.radarscenes.sequence_dir = dir.string();
@@ -125,10 +129,9 @@ void ApplyFormatLayout(DatasetConfig &config, bool mount_given) {
             }
         }
     } catch (const DatasetError &e) {
-        const bool every_radar = (config.reader == ReaderKind::kRadarScenes &&
-                                  config.radarscenes.sensor_id == 0) ||
-                                 (config.reader == ReaderKind::kNuScenes &&
-                                  config.nuscenes.channel.empty());
+        const bool every_radar =
+            (config.reader == ReaderKind::kRadarScenes && config.radarscenes.sensor_id == 0) ||
+            (config.reader == ReaderKind::kNuScenes && config.nuscenes.channel.empty());
         throw ConfigError(config.config_path + ": " +
                           (every_radar ? "the data set's radars: " : "the radar's mount: ") +
                           e.what());

@@ -1,25 +1,21 @@
 // nuScenes (H. Caesar et al., CVPR 2020) radar sweeps in their own files, as
 // nutonomy/nuscenes-devkit reads them: the JSON tables index the scene's sweeps
 // (nuscenes_tables.hpp), each sweep a binary PCD v0.7 of the Continental ARS408's clusters: FIELDS
-// x y z dyn_prop id rcs vx vy vx_comp vy_comp is_quality_valid ambig_state x_rms y_rms invalid_state
-// pdh0 vx_rms vy_rms, SIZE 4 4 4 1 2 4 4 4 4 4 1 1 1 1 1 1 1 1, TYPE F F F I I F F F F F I I I I I I
-// I I. A scan is one sweep of one of the channels read, in time order, with every cluster (the
-// devkit's optional state filters are not applied).
+// x y z dyn_prop id rcs vx vy vx_comp vy_comp is_quality_valid ambig_state x_rms y_rms
+// invalid_state pdh0 vx_rms vy_rms, SIZE 4 4 4 1 2 4 4 4 4 4 1 1 1 1 1 1 1 1, TYPE F F F I I F F F
+// F F I I I I I I I I. A scan is one sweep of one of the channels read, in time order, with every
+// cluster (the devkit's optional state filters are not applied).
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <map>
-#include <set>
 #include <sstream>
 
 #include "nuscenes_tables.hpp"
 #include "readers.hpp"
 
 namespace dorado::io {
-
-namespace fs = std::filesystem;
 
 namespace {
 
@@ -163,7 +159,9 @@ std::unique_ptr<DatasetReader> OpenNuScenesReader(const DatasetConfig &config,
 
 Eigen::Isometry3d NuScenesMount(const DatasetConfig &config) {
     // T_ego_radar: nuScenes' ego frame is the rear axle's centre
-    return IndexNuScenesScene(config.nuscenes, {OneNuScenesChannel(config)}).radars.front().T_ego_radar;
+    return IndexNuScenesScene(config.nuscenes, {OneNuScenesChannel(config)})
+        .radars.front()
+        .T_ego_radar;
 }
 
 std::vector<RadarStream> NuScenesRadars(const DatasetConfig &config) {

@@ -17,9 +17,8 @@ namespace fs = std::filesystem;
 namespace {
 
 // The devkit's order of the five radars: the front one first (the multi-radar map's reference).
-const std::vector<std::string> kRadarOrder = {"RADAR_FRONT", "RADAR_FRONT_LEFT",
-                                              "RADAR_FRONT_RIGHT", "RADAR_BACK_LEFT",
-                                              "RADAR_BACK_RIGHT"};
+const std::vector<std::string> kRadarOrder = {
+    "RADAR_FRONT", "RADAR_FRONT_LEFT", "RADAR_FRONT_RIGHT", "RADAR_BACK_LEFT", "RADAR_BACK_RIGHT"};
 
 // Applies `f` to each record of a table, streamed (each record is dropped once `f` has seen it),
 // naming the table and the record on a parse error, a missing key or a wrong type.
@@ -84,8 +83,8 @@ std::set<std::string> SceneSamples(const NuScenesSource &source) {
     if (scene_token.empty()) {
         const auto closest = ClosestName(source.scene, names, 3);
         throw DatasetError(NuScenesTablePath(source, "scene") + ": no scene named '" +
-                           source.scene + "' (nuscenes.scene, --scene); the scenes: " +
-                           Listed(names, 20) +
+                           source.scene +
+                           "' (nuscenes.scene, --scene); the scenes: " + Listed(names, 20) +
                            (closest ? "; did you mean '" + *closest + "'?" : ""));
     }
     std::set<std::string> samples;
@@ -117,8 +116,8 @@ std::vector<std::string> ChannelsToRead(const NuScenesSource &source,
         if (sensors.count(channel)) continue;
         const auto closest = ClosestName(channel, names, 3);
         throw DatasetError(NuScenesTablePath(source, "sensor") + ": no radar on channel '" +
-                           channel + "' (nuscenes.channel); the radar channels: " +
-                           Listed(names, 20) +
+                           channel +
+                           "' (nuscenes.channel); the radar channels: " + Listed(names, 20) +
                            (closest ? "; did you mean '" + *closest + "'?" : ""));
     }
     if (!asked.empty()) return asked;
@@ -189,7 +188,8 @@ NuScenesScene IndexNuScenesScene(const NuScenesSource &source,
                                " has two calibrations in " + source.scene + " (" +
                                radar.calibration_token + ", " + token + ")");
         }
-        sweeps.push_back({r.at("timestamp").get<int64_t>(), (fs::path(source.dataroot) / file).string(), k});
+        sweeps.push_back(
+            {r.at("timestamp").get<int64_t>(), (fs::path(source.dataroot) / file).string(), k});
     });
     // The radars without a sweep in the scene: an error when asked for, left out otherwise.
     std::vector<std::size_t> renumber(wanted.size());
@@ -207,10 +207,11 @@ NuScenesScene IndexNuScenesScene(const NuScenesSource &source,
         throw DatasetError(NuScenesTablePath(source, "sample_data") + ": no radar sweep in " +
                            source.scene);
     for (NuScenesSweep &s : sweeps) s.radar = renumber[s.radar];
-    std::stable_sort(sweeps.begin(), sweeps.end(), [](const NuScenesSweep &a, const NuScenesSweep &b) {
-        return a.timestamp_us != b.timestamp_us ? a.timestamp_us < b.timestamp_us
-                                                : a.radar < b.radar;
-    });
+    std::stable_sort(sweeps.begin(), sweeps.end(),
+                     [](const NuScenesSweep &a, const NuScenesSweep &b) {
+                         return a.timestamp_us != b.timestamp_us ? a.timestamp_us < b.timestamp_us
+                                                                 : a.radar < b.radar;
+                     });
     scene.sweeps = std::move(sweeps);
     return scene;
 }

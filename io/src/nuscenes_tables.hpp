@@ -19,8 +19,8 @@ namespace dorado::io {
 
 /// One radar channel of the scene with the calibration its sweeps use.
 struct NuScenesRadar {
-    std::string channel;                                             ///< e.g. RADAR_FRONT
-    std::string calibration_token;                                   ///< its calibrated_sensor
+    std::string channel;                                            ///< e.g. RADAR_FRONT
+    std::string calibration_token;                                  ///< its calibrated_sensor
     Eigen::Isometry3d T_ego_radar = Eigen::Isometry3d::Identity();  ///< that record's pose
 };
 

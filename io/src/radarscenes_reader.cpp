@@ -95,7 +95,8 @@ std::vector<Scene> SensorScenes(const std::string &path, const std::vector<int> 
 
 std::vector<Scene> SensorScenes(const DatasetConfig &config, const std::vector<int> &sensor_ids) {
     std::vector<int> present;
-    return SensorScenes((RadarScenesSequenceDir(config) / "scenes.json").string(), sensor_ids, present);
+    return SensorScenes((RadarScenesSequenceDir(config) / "scenes.json").string(), sensor_ids,
+                        present);
 }
 
 // sensors.json: the data set keeps it next to the sequence folders; a copy inside one also works.
@@ -281,7 +282,8 @@ std::vector<RadarStream> RadarScenesRadars(const DatasetConfig &config) {
         radars.push_back(radar);
     }
     if (radars.empty())
-        throw DatasetError((RadarScenesSequenceDir(config) / "scenes.json").string() + ": no scene");
+        throw DatasetError((RadarScenesSequenceDir(config) / "scenes.json").string() +
+                           ": no scene");
     return radars;
 }
 

@@ -32,8 +32,8 @@ TEST(DatasetFields, EveryMemberIsAField) {
               std::vector<std::string>{});
     // The data sets' own readers fill these from their files: no key.
     RadarStream radar;
-    EXPECT_EQ(testing::MembersWithoutField(
-                  radar, {&radar.radarscenes_sensor_id, &radar.nuscenes_channel}),
+    EXPECT_EQ(testing::MembersWithoutField(radar,
+                                           {&radar.radarscenes_sensor_id, &radar.nuscenes_channel}),
               std::vector<std::string>{});
 }
 

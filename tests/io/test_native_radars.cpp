@@ -5,12 +5,12 @@
 // scene / sequence choice, and the messages on bad input.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 #include "dorado/io/dataset.hpp"
 
@@ -83,8 +83,8 @@ class NativeRadars : public ::testing::Test {
         ASSERT_EQ(extracts.radars.size(), radars);
         for (std::size_t k = 0; k < radars; ++k) {
             EXPECT_EQ(native.radars[k].name, extracts.radars[k].name);
-            EXPECT_TRUE(native.radars[k].T_base_radar.isApprox(extracts.radars[k].T_base_radar,
-                                                                1e-9))
+            EXPECT_TRUE(
+                native.radars[k].T_base_radar.isApprox(extracts.radars[k].T_base_radar, 1e-9))
                 << native.radars[k].name;
         }
         EXPECT_TRUE(native.extrinsics.T_base_radar.isApprox(extracts.radars[0].T_base_radar, 1e-9));
@@ -131,7 +131,8 @@ TEST_F(NativeRadars, NuScenesFiveChannelsAreTheExtracts) {
 
 TEST_F(NativeRadars, RadarScenesFourSensorsAreTheExtracts) {
     ExpectSameDrive("radarscenes", 4);
-    EXPECT_EQ(LoadDatasetConfig(Path("radarscenes_native.yaml")).radars[2].radarscenes_sensor_id, 3);
+    EXPECT_EQ(LoadDatasetConfig(Path("radarscenes_native.yaml")).radars[2].radarscenes_sensor_id,
+              3);
 }
 
 TEST_F(NativeRadars, TheReferenceIsTheEgoPosesAndTheOdometry) {
@@ -171,12 +172,14 @@ TEST_F(NativeRadars, OneRadarByNameIsThatRadarAlone) {
     for (std::size_t e = 0; e < a.size(); ++e) {
         EXPECT_EQ(a[e].stamp_ns, b[e].stamp_ns);
         EXPECT_EQ(a[e].scan.size(), b[e].scan.size());
-        EXPECT_EQ(a[e].scan.frame_id, a[e].kind == DatasetEvent::Kind::kRadarScan ? "RADAR_BACK_LEFT" : "");
+        EXPECT_EQ(a[e].scan.frame_id,
+                  a[e].kind == DatasetEvent::Kind::kRadarScan ? "RADAR_BACK_LEFT" : "");
     }
     // A channel given in the description: that radar alone, no radars: list.
-    const DatasetConfig front = LoadDatasetConfig(Yaml(
-        "nu_front", "reader: nuscenes\nnuscenes: {dataroot: nuscenes, version: v1.0-mini, scene: "
-                    "scene-0061, channel: RADAR_FRONT}\n"));
+    const DatasetConfig front = LoadDatasetConfig(
+        Yaml("nu_front",
+             "reader: nuscenes\nnuscenes: {dataroot: nuscenes, version: v1.0-mini, scene: "
+             "scene-0061, channel: RADAR_FRONT}\n"));
     EXPECT_TRUE(front.radars.empty());
     EXPECT_TRUE(front.extrinsics.T_base_radar.isApprox(extracts.radars[0].T_base_radar, 1e-9));
 }
@@ -208,9 +211,10 @@ TEST_F(NativeRadars, TheCommandLineChoosesTheSceneAndTheSequence) {
 TEST_F(NativeRadars, BadChoicesNameWhatThereIs) {
     DatasetChoice choice;
     choice.scene = "scene-061";
-    ExpectMentions(ConfigErrorOf([&] { (void)LoadDatasetConfig(Path("nuscenes_native.yaml"), choice); }),
-                   {"nuscenes_native.yaml", "v1.0-mini/scene.json: no scene named 'scene-061'",
-                    "the scenes: scene-0061, scene-0103", "did you mean 'scene-0061'?"});
+    ExpectMentions(
+        ConfigErrorOf([&] { (void)LoadDatasetConfig(Path("nuscenes_native.yaml"), choice); }),
+        {"nuscenes_native.yaml", "v1.0-mini/scene.json: no scene named 'scene-061'",
+         "the scenes: scene-0061, scene-0103", "did you mean 'scene-0061'?"});
     choice = {};
     choice.sequence = "108";
     ExpectMentions(
@@ -247,9 +251,10 @@ TEST_F(NativeRadars, MissingFilesAndRecordsAreNamed) {
     ExpectMentions(
         ConfigErrorOf([&] { (void)LoadDatasetConfig(nu("v1.0-nocal", "RADAR_BACK_LEFT")); }),
         {"v1.0-nocal/calibrated_sensor.json: no record of channel RADAR_BACK_LEFT"});
-    ExpectMentions(ConfigErrorOf([&] { (void)LoadDatasetConfig(nu("v1.0-mini", "RADAR_FRONT_LFET")); }),
-                   {"sensor.json: no radar on channel 'RADAR_FRONT_LFET'",
-                    "did you mean 'RADAR_FRONT_LEFT'?"});
+    ExpectMentions(
+        ConfigErrorOf([&] { (void)LoadDatasetConfig(nu("v1.0-mini", "RADAR_FRONT_LFET")); }),
+        {"sensor.json: no radar on channel 'RADAR_FRONT_LFET'",
+         "did you mean 'RADAR_FRONT_LEFT'?"});
     // A sweep's file missing: that scan is reported and skipped, naming the file.
     const DatasetConfig nopcd = LoadDatasetConfig(nu("v1.0-nopcd"));
     std::size_t bad = 0;
@@ -260,8 +265,9 @@ TEST_F(NativeRadars, MissingFilesAndRecordsAreNamed) {
     }
     EXPECT_EQ(bad, 1u);
     // RadarScenes: a sequence without its radar_data.h5.
-    const DatasetConfig no_h5 = LoadDatasetConfig(Yaml(
-        "rs_107", "reader: radarscenes\nradarscenes: {sequence_dir: RadarScenes/data/sequence_107}\n"));
+    const DatasetConfig no_h5 = LoadDatasetConfig(
+        Yaml("rs_107",
+             "reader: radarscenes\nradarscenes: {sequence_dir: RadarScenes/data/sequence_107}\n"));
     ASSERT_EQ(no_h5.radars.size(), 4u);
     try {
         (void)ReadRadars(no_h5);
@@ -271,8 +277,8 @@ TEST_F(NativeRadars, MissingFilesAndRecordsAreNamed) {
     }
     // Without sensors.json: no mounts.
     fs::rename(dir_ / "RadarScenes" / "data" / "sensors.json", dir_ / "sensors.json.away");
-    const std::string message = ConfigErrorOf(
-        [&] { (void)LoadDatasetConfig(Path("radarscenes_native.yaml")); });
+    const std::string message =
+        ConfigErrorOf([&] { (void)LoadDatasetConfig(Path("radarscenes_native.yaml")); });
     fs::rename(dir_ / "sensors.json.away", dir_ / "RadarScenes" / "data" / "sensors.json");
     ExpectMentions(message, {"radarscenes_native.yaml: the data set's radars: ",
                              "sequence_105/sensors.json: missing"});

@@ -49,10 +49,11 @@ struct FolderSource {
 };
 
 /// RadarScenes (radar-scenes.com): one sequence, the scans of its four radars (or of one). Points
-/// from range_sc, azimuth_sc (z = 0), Doppler from vr (raw), power from rcs; times = timestamp [us].
-/// The mounts are sensors.json's (extrinsics.T_base_radar, when given, the one radar's); the
-/// reference trajectory is the h5 file's `odometry` (x_seq, y_seq, yaw_seq) unless ground_truth.path
-/// is given. With sensor_id 0 every radar of sensors.json is in `radars:` (radar_1 ... radar_4).
+/// from range_sc, azimuth_sc (z = 0), Doppler from vr (raw), power from rcs; times = timestamp
+/// [us]. The mounts are sensors.json's (extrinsics.T_base_radar, when given, the one radar's); the
+/// reference trajectory is the h5 file's `odometry` (x_seq, y_seq, yaw_seq) unless
+/// ground_truth.path is given. With sensor_id 0 every radar of sensors.json is in `radars:`
+/// (radar_1 ... radar_4).
 struct RadarScenesSource {
     std::string sequence_dir;  ///< holds radar_data.h5 and scenes.json; sensors.json here or above
     int sensor_id = 0;         ///< 1..4: that radar alone; 0: every radar
