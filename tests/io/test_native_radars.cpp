@@ -159,6 +159,23 @@ TEST_F(NativeRadars, TheReferenceIsTheEgoPosesAndTheOdometry) {
     }
 }
 
+// The description written back (as `dorado simulate` and the round trips write it) has no radars:
+// key (these readers refuse one) and reads the same radars again from the files.
+TEST_F(NativeRadars, EveryRadarRoundTripsThroughYaml) {
+    for (const std::string set : {"nuscenes", "radarscenes"}) {
+        const DatasetConfig native = LoadDatasetConfig(Path(set + "_native.yaml"));
+        const std::string text = DatasetConfigToYaml(native);
+        EXPECT_EQ(text.find("\nradars:"), std::string::npos) << text;
+        const DatasetConfig back = LoadDatasetConfig(Yaml(set + "_back", text));
+        ASSERT_EQ(back.radars.size(), native.radars.size()) << set;
+        for (std::size_t k = 0; k < back.radars.size(); ++k) {
+            EXPECT_EQ(back.radars[k].name, native.radars[k].name);
+            EXPECT_TRUE(back.radars[k].T_base_radar.isApprox(native.radars[k].T_base_radar, 1e-12));
+        }
+        EXPECT_EQ(back.imu.path, native.imu.path);
+    }
+}
+
 TEST_F(NativeRadars, OneRadarByNameIsThatRadarAlone) {
     const DatasetConfig native = LoadDatasetConfig(Path("nuscenes_native.yaml"));
     const DatasetConfig extracts = LoadDatasetConfig(Path("nuscenes_extracts.yaml"));
