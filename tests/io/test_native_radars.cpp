@@ -292,6 +292,14 @@ TEST_F(NativeRadars, MissingFilesAndRecordsAreNamed) {
     } catch (const DatasetError &e) {
         ExpectMentions(e.what(), {"sequence_107/radar_data.h5"});
     }
+    // A sequence folder without scenes.json (sensors.json above it).
+    ExpectMentions(
+        ConfigErrorOf([&] {
+            (void)LoadDatasetConfig(Yaml("rs_999",
+                                         "reader: radarscenes\nradarscenes: "
+                                         "{sequence_dir: RadarScenes/data/sequence_999}\n"));
+        }),
+        {"rs_999.yaml: the data set's radars: ", "sequence_999/scenes.json: cannot open"});
     // Without sensors.json: no mounts.
     fs::rename(dir_ / "RadarScenes" / "data" / "sensors.json", dir_ / "sensors.json.away");
     const std::string message =
