@@ -42,10 +42,14 @@ void WriteCalibratedMounts(const std::string &out_dir, const io::DatasetConfig &
                            const odometry::PlanarTwistFilter &filter) {
     io::WriteFileAtomically(out_dir + "/mounts.yaml", [&](std::ostream &os) {
         os.precision(10);
+        const bool folder = dataset.reader == io::ReaderKind::kFolder;
         os << "# The radars' mounts as calibrated by this run (the published yaw plus the "
               "estimated "
-              "offset,\n# 1-sigma in the comment): paste into the dataset description's radars: "
-              "list.\nradars:\n";
+              "offset,\n# 1-sigma in the comment): "
+           << (folder ? "paste into the dataset description's radars: list."
+                      : "the data set's own reader takes its published mounts (each run\n# "
+                        "calibrates again); a folder description of the radars takes these.")
+           << "\nradars:\n";
         for (std::size_t k = 0; k < dataset.radars.size(); ++k) {
             const io::RadarStream &radar = dataset.radars[k];
             const Eigen::Isometry3d T = filter.T_base_radar(k);
