@@ -5,7 +5,8 @@ from the converted extract folders (reader folder with a radars: list).
 
   check_native_map.py DORADO SHARED_REAL_DIR OUT_DIR
 Prints per data set the poses and the largest position difference; fails when the stamps differ or
-a position differs by more than 1 mm. Exit 77 (skipped) without the shared drives
+a position differs by more than 1 mm, or when a bad --scene / --sequence / --radars does not exit 1
+with a message naming what there is. Exit 77 (skipped) without the shared drives
 (DORADO_SHARED_REAL names another place).
 """
 import os
@@ -18,6 +19,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 def main(dorado, shared, out):
+    dorado, out = os.path.abspath(dorado), os.path.abspath(out)
     shared = os.environ.get("DORADO_SHARED_REAL", shared)
     if not os.path.isfile(os.path.join(shared, "nuscenes_scene-0061", "mounts.txt")):
         print("skipped: the shared real drives are absent (%s)" % shared)
@@ -44,6 +46,21 @@ def main(dorado, shared, out):
         print("%s: %d poses, max |difference| %.3g m (path %.0f m)"
               % (data_set, len(a), difference, path))
         failed = failed or not difference <= 1e-3
+    # Bad choices on the command line: exit 1 with the file, what there is and the nearest name.
+    for args, expected in (
+            (["info", "nuscenes_native.yaml", "--scene", "scene-061"],
+             ["nuscenes_native.yaml", "scene.json: no scene named 'scene-061'",
+              "the scenes: scene-0061, scene-0103", "did you mean 'scene-0061'?"]),
+            (["map", "radarscenes_native.yaml", "--sequence", "108", "--out", "unused"],
+             ["--sequence 108", "sequence_108 is not a folder", "did you mean sequence_105?"]),
+            (["map", "nuscenes_native.yaml", "--radars", "RADAR_FRONT_LFET", "--out", "unused"],
+             ["--radars RADAR_FRONT_LFET: no such radar", "RADAR_FRONT_LEFT"])):
+        result = subprocess.run([dorado] + args, cwd=out, capture_output=True, text=True)
+        missing = [e for e in expected if e not in result.stderr]
+        print("dorado %s: exit %d%s" % (" ".join(args[:4]), result.returncode,
+                                        ", missing %s in: %s" % (missing, result.stderr)
+                                        if missing else ""))
+        failed = failed or result.returncode != 1 or bool(missing)
     return 1 if failed else 0
 
 
