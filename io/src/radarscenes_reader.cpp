@@ -50,15 +50,19 @@ std::string SensorList(std::vector<int> ids) {
     return list.empty() ? "none" : list;
 }
 
-// The scenes of @p sensor_ids from scenes.json, in time order (equal times: by index in the list);
-// every sensor with a scene into @p present.
-std::vector<Scene> SensorScenes(const std::string &path, const std::vector<int> &sensor_ids,
-                                std::vector<int> &present) {
+// What scenes.json holds of the sensors asked for.
+struct SequenceScenes {
+    std::vector<Scene> scenes;  ///< theirs, in time order (equal times: by index in the list)
+    std::vector<int> sensors;   ///< every sensor with a scene in the sequence
+};
+
+SequenceScenes ReadScenes(const std::string &path, const std::vector<int> &sensor_ids) {
     const nlohmann::json json = ReadJson(path);
     if (!json.contains("scenes") || !json["scenes"].is_object())
         throw DatasetError(path + ": no 'scenes' object");
-    std::vector<Scene> scenes;
-    std::vector<int> &sensors = present;
+    SequenceScenes read;
+    std::vector<Scene> &scenes = read.scenes;
+    std::vector<int> &sensors = read.sensors;
     for (const auto &[key, scene] : json["scenes"].items()) {
         try {
             const int id = scene.at("sensor_id").get<int>();
@@ -90,13 +94,11 @@ std::vector<Scene> SensorScenes(const std::string &path, const std::vector<int> 
         return a.timestamp_us != b.timestamp_us ? a.timestamp_us < b.timestamp_us
                                                 : a.radar < b.radar;
     });
-    return scenes;
+    return read;
 }
 
-std::vector<Scene> SensorScenes(const DatasetConfig &config, const std::vector<int> &sensor_ids) {
-    std::vector<int> present;
-    return SensorScenes((RadarScenesSequenceDir(config) / "scenes.json").string(), sensor_ids,
-                        present);
+SequenceScenes ReadScenes(const DatasetConfig &config, const std::vector<int> &sensor_ids) {
+    return ReadScenes((RadarScenesSequenceDir(config) / "scenes.json").string(), sensor_ids);
 }
 
 // sensors.json: the data set keeps it next to the sequence folders; a copy inside one also works.
@@ -137,7 +139,7 @@ class RadarScenesReader final : public DatasetReader {
     RadarScenesReader(const DatasetConfig &config, const std::vector<int> &sensor_ids)
         : source_(H5Path(config) + " (sensor_id " + SensorList(sensor_ids) + ")"),
           sensor_ids_(sensor_ids),
-          scenes_(SensorScenes(config, sensor_ids)),
+          scenes_(ReadScenes(config, sensor_ids).scenes),
           scans_of_radar_(sensor_ids.size(), 0),
           file_(OpenH5File(H5Path(config))),
           table_(file_, H5Path(config), "radar_data",
@@ -270,8 +272,7 @@ Eigen::Isometry3d RadarScenesMount(const DatasetConfig &config) {
 std::vector<RadarStream> RadarScenesRadars(const DatasetConfig &config) {
     const fs::path path = SensorsJson(config);
     const nlohmann::json json = ReadJson(path.string());
-    std::vector<int> present;
-    SensorScenes((RadarScenesSequenceDir(config) / "scenes.json").string(), {}, present);
+    std::vector<int> present = ReadScenes(config, {}).sensors;
     std::sort(present.begin(), present.end());
     std::vector<RadarStream> radars;
     for (const int id : present) {
