@@ -186,7 +186,9 @@ NuScenesScene IndexNuScenesScene(const NuScenesSource &source,
             throw DatasetError(NuScenesTablePath(source, "sample_data") + ": record " +
                                std::to_string(record) + ": channel " + wanted[k] +
                                " has two calibrations in " + source.scene + " (" +
-                               radar.calibration_token + ", " + token + ")");
+                               radar.calibration_token + ", " + token +
+                               "): read it alone (nuscenes.channel) with its mount as "
+                               "extrinsics.T_base_radar");
         }
         sweeps.push_back(
             {r.at("timestamp").get<int64_t>(), (fs::path(source.dataroot) / file).string(), k});
