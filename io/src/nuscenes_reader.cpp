@@ -161,7 +161,7 @@ Eigen::Isometry3d NuScenesMount(const DatasetConfig &config) {
     // T_ego_radar: nuScenes' ego frame is the rear axle's centre
     return IndexNuScenesScene(config.nuscenes, {OneNuScenesChannel(config)})
         .radars.front()
-        .T_ego_radar;
+        .Mount(config.nuscenes);
 }
 
 std::vector<RadarStream> NuScenesRadars(const DatasetConfig &config) {
@@ -170,7 +170,7 @@ std::vector<RadarStream> NuScenesRadars(const DatasetConfig &config) {
         RadarStream radar;
         radar.name = r.channel;
         radar.nuscenes_channel = r.channel;
-        radar.T_base_radar = r.T_ego_radar;
+        radar.T_base_radar = r.Mount(config.nuscenes);
         radars.push_back(radar);
     }
     return radars;

@@ -131,6 +131,16 @@ std::vector<std::string> ChannelsToRead(const NuScenesSource &source,
 
 }  // namespace
 
+const Eigen::Isometry3d &NuScenesRadar::Mount(const NuScenesSource &source) const {
+    if (!second_calibration.empty())
+        throw DatasetError(NuScenesTablePath(source, "sample_data") + ": channel " + channel +
+                           " has two calibrations in " + source.scene + " (" + calibration_token +
+                           ", " + second_calibration +
+                           "): read it alone (nuscenes.channel) with its mount as "
+                           "extrinsics.T_base_radar");
+    return T_ego_radar;
+}
+
 std::string NuScenesTablePath(const NuScenesSource &source, const char *table) {
     return (fs::path(source.dataroot) / source.version / (table + std::string(".json"))).string();
 }
@@ -182,13 +192,8 @@ NuScenesScene IndexNuScenesScene(const NuScenesSource &source,
             radar.channel = wanted[k];
             radar.calibration_token = token;
             radar.T_ego_radar = calibration->second.second;
-        } else if (radar.calibration_token != token) {
-            throw DatasetError(NuScenesTablePath(source, "sample_data") + ": record " +
-                               std::to_string(record) + ": channel " + wanted[k] +
-                               " has two calibrations in " + source.scene + " (" +
-                               radar.calibration_token + ", " + token +
-                               "): read it alone (nuscenes.channel) with its mount as "
-                               "extrinsics.T_base_radar");
+        } else if (radar.calibration_token != token && radar.second_calibration.empty()) {
+            radar.second_calibration = token;
         }
         sweeps.push_back(
             {r.at("timestamp").get<int64_t>(), (fs::path(source.dataroot) / file).string(), k});

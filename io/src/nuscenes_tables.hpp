@@ -20,8 +20,12 @@ namespace dorado::io {
 /// One radar channel of the scene with the calibration its sweeps use.
 struct NuScenesRadar {
     std::string channel;                                            ///< e.g. RADAR_FRONT
-    std::string calibration_token;                                  ///< its calibrated_sensor
+    std::string calibration_token;                                  ///< its first sweep's
     Eigen::Isometry3d T_ego_radar = Eigen::Isometry3d::Identity();  ///< that record's pose
+    std::string second_calibration;  ///< another of its sweeps' calibrations ("" when one)
+
+    /// T_ego_radar; throws DatasetError naming sample_data.json when the sweeps have two.
+    [[nodiscard]] const Eigen::Isometry3d &Mount(const NuScenesSource &source) const;
 };
 
 /// One sweep of one of the scene's radars.

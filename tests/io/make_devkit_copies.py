@@ -17,6 +17,7 @@ reference, nuScenes' mounts.txt and CAN bus IMU; its README says how they were e
   100 scenes of it again.
 - malformed copies beside them: nuscenes/v1.0-nocal (calibrated_sensor.json without RADAR_BACK_LEFT's
   record), nuscenes/v1.0-nopcd (one RADAR_FRONT sweep's file named but absent),
+  nuscenes/v1.0-twocal (some RADAR_FRONT sweeps under a second calibration record),
   RadarScenes/data/sequence_107 (scenes.json without radar_data.h5);
 - OUT/*.yaml: the native descriptions and descriptions of the same radars read from the extract
   folders (reader folder, a radars: list in the native readers' order, the same mounts).
@@ -282,6 +283,16 @@ def variants(out):
         if r["token"] == "RADAR_FRONT_3":
             r["filename"] = "sweeps/RADAR_FRONT/absent.pcd"
     json.dump(records, open(os.path.join(nopcd, "sample_data.json"), "w"))
+    twocal = os.path.join(out, "nuscenes", "v1.0-twocal")
+    shutil.copytree(tables, twocal)
+    records = json.load(open(os.path.join(tables, "calibrated_sensor.json")))
+    second = dict(next(r for r in records if r["token"] == "cs_RADAR_FRONT"), token="cs_front_b")
+    json.dump(records + [second], open(os.path.join(twocal, "calibrated_sensor.json"), "w"))
+    records = json.load(open(os.path.join(tables, "sample_data.json")))
+    for r in records:
+        if r["token"].startswith("RADAR_FRONT_1"):  # sweeps 1, 10..19, 100..199
+            r["calibrated_sensor_token"] = "cs_front_b"
+    json.dump(records, open(os.path.join(twocal, "sample_data.json"), "w"))
     data = os.path.join(out, "RadarScenes", "data")
     os.makedirs(os.path.join(data, "sequence_107"))
     shutil.copy(os.path.join(data, "sequence_106", "scenes.json"),

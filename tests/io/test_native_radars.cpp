@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -272,6 +273,22 @@ TEST_F(NativeRadars, MissingFilesAndRecordsAreNamed) {
         ConfigErrorOf([&] { (void)LoadDatasetConfig(nu("v1.0-mini", "RADAR_FRONT_LFET")); }),
         {"sensor.json: no radar on channel 'RADAR_FRONT_LFET'",
          "did you mean 'RADAR_FRONT_LEFT'?"});
+    // A channel whose sweeps have two calibrations: its mount is not known, unless given; its
+    // sweeps are read.
+    ExpectMentions(ConfigErrorOf([&] { (void)LoadDatasetConfig(nu("v1.0-twocal")); }),
+                   {"v1.0-twocal/sample_data.json: channel RADAR_FRONT has two calibrations in "
+                    "scene-0061 (cs_RADAR_FRONT, cs_front_b): read it alone (nuscenes.channel) "
+                    "with its mount as extrinsics.T_base_radar"});
+    const DatasetConfig mount_given = LoadDatasetConfig(
+        Yaml("nu_twocal_mount",
+             "reader: nuscenes\nnuscenes: {dataroot: nuscenes, version: v1.0-twocal, "
+             "scene: scene-0061, channel: RADAR_FRONT}\nextrinsics: {T_base_radar: "
+             "{translation_m: [3.4, 0, 0.5]}}\n"));
+    const auto twocal_events = ReadRadars(mount_given);
+    EXPECT_EQ(std::count_if(
+                  twocal_events.begin(), twocal_events.end(),
+                  [](const DatasetEvent &e) { return e.kind == DatasetEvent::Kind::kRadarScan; }),
+              247);
     // A sweep's file missing: that scan is reported and skipped, naming the file.
     const DatasetConfig nopcd = LoadDatasetConfig(nu("v1.0-nopcd"));
     std::size_t bad = 0;
