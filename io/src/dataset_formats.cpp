@@ -84,6 +84,9 @@ void ApplyDatasetChoice(DatasetConfig &config, const DatasetChoice &choice) {
                           ": chooses a RadarScenes sequence (reader radarscenes); this "
                           "description's reader is " +
                           reader);
+    if (config.radarscenes.sequence_dir.empty())
+        throw ConfigError(DescriptionName(config) + ": --sequence " + choice.sequence +
+                          ": needs radarscenes.sequence_dir (a sequence beside the one chosen)");
     const bool number = std::all_of(choice.sequence.begin(), choice.sequence.end(),
                                     [](unsigned char c) { return std::isdigit(c); });
     const std::string name = number ? "sequence_" + choice.sequence : choice.sequence;
