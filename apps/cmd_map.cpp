@@ -22,6 +22,7 @@ namespace {
 struct MapOptions {
     std::string dataset, out, config, odometry_config, prior = "doppler", radars = "all";
     bool no_mask = false, masks = false, fixed_mounts = false;
+    io::DatasetChoice choice;  // --scene, --sequence
 };
 
 // DIR/masks/NNNNNN.txt: what the map used of each point (the odometry's labels, and 3 for the
@@ -57,8 +58,8 @@ frontend::FrontEndConfig FrontEndConfigOf(const MapOptions &opt,
 
 void RunMap(const MapOptions &opt) {
     const io::DatasetConfig dataset =
-        opt.radars == "all" ? io::ResolveDataset(opt.dataset)
-                            : SelectRadar(io::ResolveDataset(opt.dataset), opt.radars);
+        opt.radars == "all" ? io::ResolveDataset(opt.dataset, opt.choice)
+                            : SelectRadar(io::ResolveDataset(opt.dataset, opt.choice), opt.radars);
     const dorado::config::MapCommandConfig map_config =
         opt.config.empty() ? dorado::config::MapCommandConfig{}
                            : dorado::config::LoadMapConfig(opt.config);
@@ -128,6 +129,7 @@ void RegisterMapCommand(CLI::App &app) {
            "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")
         ->required();
     cmd->add_option("--out", opt->out, "output folder")->required();
+    AddDatasetChoiceOptions(*cmd, opt->choice);
     cmd->add_option("--prior", opt->prior,
                     "motion prior: none | constvel | imu | doppler (default) | imu+doppler");
     cmd->add_option("--config", opt->config,

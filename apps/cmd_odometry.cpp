@@ -26,6 +26,7 @@ namespace {
 struct OdometryOptions {
     std::string dataset, out, config, method, rotation, radars;
     bool masks = false;
+    io::DatasetChoice choice;  // --scene, --sequence
 };
 
 std::string Num(double v) {
@@ -118,7 +119,8 @@ std::string CauseList(const std::map<odometry::FallbackCause, int> &causes) {
 }
 
 void RunOdometry(const OdometryOptions &opt) {
-    const io::DatasetConfig dataset = SelectRadar(io::ResolveDataset(opt.dataset), opt.radars);
+    const io::DatasetConfig dataset =
+        SelectRadar(io::ResolveDataset(opt.dataset, opt.choice), opt.radars);
     const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "odometry");
     frontend::FrontEndConfig config;
     config.run_mapper = false;
@@ -235,6 +237,7 @@ void RegisterOdometryCommand(CLI::App &app) {
            "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")
         ->required();
     cmd->add_option("--out", opt->out, "output folder")->required();
+    AddDatasetChoiceOptions(*cmd, opt->choice);
     cmd->add_option("--config", opt->config,
                     "odometry settings (configs/odometry.yaml; every key and default: "
                     "`dorado config print odometry`)");

@@ -4,6 +4,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "dorado/io/dataset_config.hpp"
+
 namespace dorado::apps {
 
 void RegisterInfoCommand(CLI::App &app);
@@ -15,5 +17,9 @@ void RegisterEvalCommand(CLI::App &app);
 void RegisterBenchCommand(CLI::App &app);
 void RegisterTwistCommand(CLI::App &app);
 void RegisterConfigCommand(CLI::App &app);
+
+/// `--scene NAME` (nuScenes) and `--sequence N` (RadarScenes) on a command that reads a dataset:
+/// another scene or sequence of the same release than the description's (io::DatasetChoice).
+void AddDatasetChoiceOptions(CLI::App &cmd, io::DatasetChoice &choice);
 
 }  // namespace dorado::apps

@@ -159,7 +159,10 @@ void ReadRadars(const YAML::Node &root, FieldReader &in, const std::string &yaml
     if (!in.Has("radars")) return;
     const YAML::Node list = root["radars"];
     if (!list.IsSequence()) in.Fail("radars", "must be a list of radars");
-    if (config.reader != ReaderKind::kFolder) in.Fail("radars", "needs reader: folder");
+    if (config.reader != ReaderKind::kFolder)
+        in.Fail("radars",
+                "needs reader: folder (readers radarscenes and nuscenes list their "
+                "radars from the data set's own files)");
     for (std::size_t k = 0; k < list.size(); ++k) {
         FieldReader item(YamlSection(list[k], yaml_path, "radars[" + std::to_string(k) + "]"),
                          base_dir);
@@ -206,12 +209,15 @@ DatasetConfig ForRadar(const DatasetConfig &config, std::size_t index) {
     one.name = config.name + "/" + radar.name;
     one.folder.scans_dir = radar.scans_dir;
     one.folder.timestamps_file = radar.timestamps_file;
+    if (config.reader == ReaderKind::kRadarScenes)
+        one.radarscenes.sensor_id = radar.radarscenes_sensor_id;
+    if (config.reader == ReaderKind::kNuScenes) one.nuscenes.channel = radar.nuscenes_channel;
     one.extrinsics.T_base_radar = radar.T_base_radar;
     one.radars.clear();
     return one;
 }
 
-DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
+DatasetConfig LoadDatasetConfig(const std::string &yaml_path, const DatasetChoice &choice) {
     const std::string base_dir = fs::absolute(yaml_path).parent_path().string();
     const YAML::Node root = LoadYamlFile(yaml_path);
     FieldReader in(YamlSection(root, yaml_path), base_dir);
@@ -223,17 +229,18 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path) {
     VisitFields(config, in);
     ReadRadars(root, in, yaml_path, base_dir, config);
     in.RejectUnknownKeys();
+    ApplyDatasetChoice(config, choice);
     CheckFields(in, config);
-    if (!in.Has("extrinsics.T_base_radar")) ApplyFormatMount(config);  // the data set's own
+    ApplyFormatLayout(config, in.Has("extrinsics.T_base_radar"));  // the data set's own radars
     return config;
 }
 
-DatasetConfig ResolveDataset(const std::string &argument) {
+DatasetConfig ResolveDataset(const std::string &argument, const DatasetChoice &choice) {
     const fs::path path(argument);
     std::error_code ec;
     if (fs::is_directory(path, ec)) {
         const fs::path description = path / "dataset.yaml";
-        if (fs::exists(description)) return LoadDatasetConfig(description.string());
+        if (fs::exists(description)) return LoadDatasetConfig(description.string(), choice);
         if (!fs::exists(path / "metadata.yaml")) {
             throw ConfigError(argument +
                               ": a folder without dataset.yaml or metadata.yaml (rosbag2); pass a "
@@ -242,7 +249,7 @@ DatasetConfig ResolveDataset(const std::string &argument) {
     }
     if (!fs::exists(path, ec)) throw ConfigError(argument + ": no such file");
     const std::string ext = path.extension().string();
-    if (ext == ".yaml" || ext == ".yml") return LoadDatasetConfig(argument);
+    if (ext == ".yaml" || ext == ".yml") return LoadDatasetConfig(argument, choice);
     // A recording: ROS1 .bag, rosbag2 folder, .db3 or .mcap (the reader tells them by their bytes).
     if (ext == ".bag" || ext == ".db3" || ext == ".mcap" || fs::is_directory(path, ec)) {
         // The paper's Hugin dataset layout: radar PointCloud2 on /hugin_raf_1/radar_data, and
@@ -255,6 +262,7 @@ DatasetConfig ResolveDataset(const std::string &argument) {
         config.name = (path.has_filename() ? path : path.parent_path()).stem().string();
         config.reader = ReaderKind::kRosbag;
         config.rosbag.path = argument;
+        ApplyDatasetChoice(config, choice);  // refused: a recording has no scenes
         return config;
     }
     throw ConfigError(argument +
@@ -266,7 +274,7 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
     DatasetConfig copy = config;
     FieldWriter writer;
     VisitFields(copy, WrittenFields{copy.reader, writer});
-    if (!copy.radars.empty()) {
+    if (!copy.radars.empty() && copy.reader == ReaderKind::kFolder) {  // the others': their files
         std::vector<std::string> items;
         for (RadarStream &radar : copy.radars) {
             FieldWriter item;
