@@ -1,29 +1,10 @@
 #include "dorado/io/yaml_section.hpp"
 
-#include <algorithm>
 #include <cmath>
 
+#include "dorado/io/closest_name.hpp"
+
 namespace dorado::io {
-
-namespace {
-
-/// Levenshtein distance: insertions, deletions and substitutions, one row at a time.
-std::size_t EditDistance(const std::string &a, const std::string &b) {
-    std::vector<std::size_t> row(b.size() + 1);
-    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-    for (std::size_t i = 1; i <= a.size(); ++i) {
-        std::size_t diagonal = row[0];
-        row[0] = i;
-        for (std::size_t j = 1; j <= b.size(); ++j) {
-            const std::size_t up = row[j];
-            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
-            diagonal = up;
-        }
-    }
-    return row[b.size()];
-}
-
-}  // namespace
 
 YAML::Node LoadYamlFile(const std::string &path) {
     try {
@@ -79,15 +60,9 @@ void YamlSection::RejectUnknownKeys() const {
                          std::to_string(entry.first.Mark().line + 1) + ")");
         const std::string &key = entry.first.Scalar();
         if (known_.count(key)) continue;
-        std::string hint;
-        std::size_t best = 3;  // suggest only keys at most 2 edits away
-        for (const auto &k : known_) {
-            const std::size_t d = EditDistance(k, key);
-            if (d < best) {
-                best = d;
-                hint = " (did you mean '" + k + "'?)";
-            }
-        }
+        const std::string closest =
+            ClosestName(key, std::vector<std::string>(known_.begin(), known_.end()));
+        const std::string hint = closest.empty() ? "" : " (did you mean '" + closest + "'?)";
         std::string list;
         for (const auto &k : known_) list += (list.empty() ? "" : ", ") + k;
         Fail(key, "unknown key" + hint + "; known keys: " + list);
