@@ -22,6 +22,7 @@
 #include "dorado/config/map_config.hpp"
 #include "dorado/config/odometry_config.hpp"
 #include "dorado/io/atomic_file.hpp"
+#include "output_folder.hpp"
 #include "progress.hpp"
 
 namespace dorado::apps {
@@ -244,6 +245,7 @@ void RunBench(const BenchOptions &o) {
     if (!o.run_one.empty()) return RunOne(runs, o.run_one, out_dir);
     const std::vector<JobOutcome> outcomes =
         o.score_only ? OutcomesOnDisk(runs) : RunAll(runs, config, out_dir);
+    PrepareOutputFolder(out_dir, OutputKind::kBench);  // the report's files; runs/ stays
     Report(runs, outcomes, config, out_dir, o.no_plot);
 }
 

@@ -11,6 +11,7 @@
 #include "dorado/io/dataset.hpp"
 #include "map_outputs.hpp"
 #include "multi_radar_map.hpp"
+#include "output_folder.hpp"
 #include "progress.hpp"
 #include "scan_loop.hpp"
 #include "stream_guard.hpp"
@@ -85,7 +86,7 @@ void RunMap(const MapOptions &opt) {
     }
     const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "map");
     frontend::RadarFrontEnd front_end(config, dataset.extrinsics, dataset.vehicle);
-    io::MakeDirectories(opt.out);
+    PrepareOutputFolder(opt.out);
     if (opt.masks) io::MakeDirectories(opt.out + "/masks");
 
     const std::size_t expected = CountRadarMessages(dataset, needs_imu, "--prior " + opt.prior);

@@ -10,6 +10,7 @@
 #include "dorado/io/atomic_file.hpp"
 #include "dorado/io/dataset.hpp"
 #include "map_outputs.hpp"
+#include "output_folder.hpp"
 #include "progress.hpp"
 #include "scan_loop.hpp"
 #include "skip_log.hpp"
@@ -68,7 +69,7 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
                       const std::string &out_dir) {
     frontend::MultiRadarFrontEnd front_end(config, Mounts(dataset), dataset.extrinsics.T_base_imu,
                                            dataset.vehicle, twist_filter);
-    io::MakeDirectories(out_dir);
+    PrepareOutputFolder(out_dir);
     auto reader = io::OpenRadars(dataset);
     std::size_t expected = 0;
     for (std::size_t k = 0; k < dataset.radars.size(); ++k)
