@@ -13,6 +13,7 @@
 #include "multi_radar_map.hpp"
 #include "output_folder.hpp"
 #include "progress.hpp"
+#include "reference_path.hpp"
 #include "scan_loop.hpp"
 #include "stream_guard.hpp"
 
@@ -102,7 +103,7 @@ void RunMap(const MapOptions &opt) {
              });
     guard.ThrowIfNoScanUsed(loop.used(), reader->source());
 
-    outputs.Write(opt.out, front_end.trajectory());
+    outputs.Write(opt.out, front_end.trajectory(), ReferencePath(dataset, front_end.trajectory()));
     nlohmann::json summary = MapRunSummary(dataset.name, config, guard.stopped());
     summary.update({{"scans", loop.scans()},
                     {"scans_registered", loop.used()},

@@ -36,8 +36,7 @@ std::string UnexpectedArgument(const CLI::App &command, const std::string &arg) 
         const std::string name = arg.substr(0, arg.find('='));  // --key=value
         const std::string closest = dorado::io::ClosestName(name, known);
         return "unknown option '" + name + "'" +
-               (closest.empty() ? "" : " (did you mean '" + closest + "'?)") + help +
-               "the options";
+               (closest.empty() ? "" : " (did you mean '" + closest + "'?)") + help + "the options";
     }
     for (const CLI::App *sub : command.get_subcommands([](const CLI::App *) { return true; }))
         known.push_back(sub->get_name());

@@ -12,6 +12,7 @@
 #include "map_outputs.hpp"
 #include "output_folder.hpp"
 #include "progress.hpp"
+#include "reference_path.hpp"
 #include "scan_loop.hpp"
 #include "skip_log.hpp"
 #include "stream_guard.hpp"
@@ -118,7 +119,7 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
     skips.PrintSummary();
     guard.ThrowIfNoScanUsed(sweeps, reader->source());
 
-    outputs.Write(out_dir, front_end.trajectory());
+    outputs.Write(out_dir, front_end.trajectory(), ReferencePath(dataset, front_end.trajectory()));
     WriteCalibratedMounts(out_dir, dataset, front_end.twist_filter());
     nlohmann::json radars = nlohmann::json::array();
     for (std::size_t k = 0; k < dataset.radars.size(); ++k) {

@@ -27,8 +27,9 @@ bool IsMaskFile(const fs::directory_entry &entry) {
 void Remove(const fs::path &path) {
     std::error_code ec;
     fs::remove(path, ec);
-    if (ec) throw std::runtime_error(path.string() + ": cannot remove an earlier run's output: " +
-                                     ec.message());
+    if (ec)
+        throw std::runtime_error(path.string() +
+                                 ": cannot remove an earlier run's output: " + ec.message());
 }
 
 /// Removes the mask files under @p masks and the folder if nothing else is in it.
@@ -57,9 +58,9 @@ std::vector<std::string> KnownOutputs(OutputKind kind) {
             std::vector<std::string> names{"results.md", "results.csv", "bench_runs.csv",
                                            "rpe_pairs.csv"};
             // scripts/plot_benchmark.py's figures, each as PNG and PDF.
-            for (const char *figure : {"fig4_angular_velocity", "fig5_rpe_per_frame",
-                                       "fig6_rpe_per_second", "fig7_trajectories",
-                                       "runtime_per_stage"}) {
+            for (const char *figure :
+                 {"fig4_angular_velocity", "fig5_rpe_per_frame", "fig6_rpe_per_second",
+                  "fig7_trajectories", "runtime_per_stage"}) {
                 names.push_back(std::string("plots/") + figure + ".png");
                 names.push_back(std::string("plots/") + figure + ".pdf");
             }

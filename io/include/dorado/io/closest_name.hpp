@@ -10,7 +10,8 @@ namespace dorado::io {
 
 /// The name in @p known with the fewest edits (insertions, deletions, substitutions) from
 /// @p name, if at most @p max_edits; the first such name on a tie; "" when none is that close.
-[[nodiscard]] std::string ClosestName(const std::string &name, const std::vector<std::string> &known,
+[[nodiscard]] std::string ClosestName(const std::string &name,
+                                      const std::vector<std::string> &known,
                                       std::size_t max_edits = 2);
 
 }  // namespace dorado::io
