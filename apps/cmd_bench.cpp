@@ -154,6 +154,11 @@ std::vector<JobOutcome> RunAll(const std::vector<BenchRun> &runs, const BenchCon
             std::fprintf(stderr, ": %s", outcome.message.c_str());
         std::fprintf(stderr, "\n");
     };
+    runner.on_stale = [&](std::size_t job) {
+        std::fprintf(stderr,
+                     "bench: %s: the finished run in %s had other settings or inputs: run again\n",
+                     jobs[job].name.c_str(), jobs[job].out_dir.c_str());
+    };
     std::fprintf(stderr, "bench: %zu runs (%zu sequences) on %zu parallel jobs, results in %s\n",
                  jobs.size(), config.sequences.size(), config.jobs, out_dir.c_str());
     std::vector<JobOutcome> outcomes = RunJobs(jobs, runner);
