@@ -4,6 +4,7 @@
 #include "dorado/config/map_config.hpp"
 #include "dorado/config/odometry_config.hpp"
 #include "dorado/io/dataset_config.hpp"
+#include "dorado/io/field_yaml.hpp"
 #include "dorado/sim/sequence_config.hpp"
 
 namespace dorado::apps {
