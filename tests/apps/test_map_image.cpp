@@ -16,28 +16,29 @@ namespace {
 namespace fs = std::filesystem;
 constexpr int64_t kSecond = 1'000'000'000;
 
-// A drive along a gentle arc, one pose per 0.1 s for 10 s, in the estimate's world.
-dorado::Trajectory Arc(int64_t t0_ns, int poses) {
+// A drive along a gentle arc in the estimate's world, one pose per 0.1 s: poses k = first ..
+// first + count - 1 at 10 s + 0.1 k s (k < 0 before the estimate's first scan).
+dorado::Trajectory Arc(int first, int count) {
     dorado::Trajectory trajectory;
-    for (int k = 0; k < poses; ++k) {
+    for (int k = first; k < first + count; ++k) {
         const double t = 0.1 * k;
         Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
         T.linear() = Eigen::AngleAxisd(0.05 * t, Eigen::Vector3d::UnitZ()).toRotationMatrix();
         T.translation() = Eigen::Vector3d(5.0 * t, 0.1 * t * t, 0.02 * t);
-        trajectory.Append(t0_ns + k * kSecond / 10, T);
+        trajectory.Append(10 * kSecond + k * kSecond / 10, T);
     }
     return trajectory;
 }
 
 TEST(ReferencePath, TheReferenceInAnotherWorldLandsOnTheEstimate) {
-    const dorado::Trajectory estimate = Arc(10 * kSecond, 100);
+    const dorado::Trajectory estimate = Arc(0, 100);
     // The same drive recorded in another world, 2 s longer on each side.
     Eigen::Isometry3d T_ref_est = Eigen::Isometry3d::Identity();
     T_ref_est.linear() =
         Eigen::AngleAxisd(1.1, Eigen::Vector3d(0.1, -0.2, 1.0).normalized()).toRotationMatrix();
     T_ref_est.translation() = Eigen::Vector3d(400.0, -250.0, 12.0);
     dorado::Trajectory reference;
-    const dorado::Trajectory longer = Arc(8 * kSecond, 140);
+    const dorado::Trajectory longer = Arc(-20, 140);
     for (const auto &pose : longer.poses())
         reference.Append(pose.stamp_ns, T_ref_est * pose.T_world_body);
 
@@ -48,7 +49,7 @@ TEST(ReferencePath, TheReferenceInAnotherWorldLandsOnTheEstimate) {
 }
 
 TEST(ReferencePath, NoOverlapGivesNoPath) {
-    EXPECT_TRUE(dorado::apps::AlignedReferencePath(Arc(100 * kSecond, 10), Arc(0, 10)).empty());
+    EXPECT_TRUE(dorado::apps::AlignedReferencePath(Arc(1000, 10), Arc(0, 10)).empty());
     EXPECT_TRUE(dorado::apps::AlignedReferencePath(dorado::Trajectory(), Arc(0, 10)).empty());
 }
 
