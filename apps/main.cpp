@@ -61,8 +61,9 @@ std::string UsageError(const CLI::App &app, const CLI::ParseError &e) {
         return UnexpectedArgument(*command, arg);
     }
     const CLI::App &command = DeepestCommand(app);
-    return CommandPath(command) + ": " + e.what() + "; `" + CommandPath(command) +
-           " --help` lists the options";
+    const std::string path = CommandPath(command);
+    return (command.get_parent() ? path + ": " : "") + e.what() + "; `" + path +
+           " --help` lists the " + (command.get_parent() ? "options" : "commands");
 }
 
 }  // namespace
