@@ -107,7 +107,7 @@ namespace {
 // covariance.csv's status says what the output is: a scan registered (no fallback) whose
 // refinement failed (registered.valid false) is `unrefined`, with no registration columns, and
 // its fused columns carry the prior's covariance; the same scan with a valid registration is
-// `fused`. (Issue 29: a failed step 2 used to be written as `fused`.)
+// `fused`.
 TEST(CovarianceTable, AFailedRefinementIsUnrefinedWithThePriorsCovariance) {
     frontend::FrontEndResult result;
     result.stamp_ns = 2'000'000'000;
