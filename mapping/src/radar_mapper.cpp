@@ -115,6 +115,7 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Mapp
     result.threshold_m = threshold_m;
     result.doppler_residuals = estimate.doppler_residuals;
     result.registered = estimate.registered;
+    result.T_world_base_aligned = estimate.T_world_base_aligned;
     result.mover_dropped = std::move(points.mover_dropped);
     result.times.alignment_ms = estimate.alignment_ms;
     result.times.registration_ms = estimate.registration_ms;

@@ -173,6 +173,9 @@ struct RegistrationResult {
     /// base frame (T_true = T_world_base ExpSE3(xi), MotionPrior's convention).
     Matrix6d covariance = Matrix6d::Zero();
     RegisteredPose registered;  ///< the registration's estimate the smoother weighs
+    /// The registration's alignment from the prediction (PCL), before its refinement: what
+    /// prior_mahalanobis_squared measures.
+    Eigen::Isometry3d T_world_base_aligned = Eigen::Isometry3d::Identity();
     bool first_scan = false;    ///< the map was empty: the pose is the prior and starts the map
     /// Nothing to register (kNone: registered): the pose is the prior's, smoothed.
     FallbackCause fallback_cause = FallbackCause::kNone;
@@ -182,10 +185,12 @@ struct RegistrationResult {
     int correspondences = 0;     ///< within the threshold at the final pose
     double fitness_rms_m = 0.0;  ///< RMS distance of those correspondences
     double observability = 0.0;  ///< min eigenvalue ratio of the point-to-plane information
-    /// The registered pose against the prediction: squared Mahalanobis distance under the
-    /// prediction's and the registration's covariances (6 on average when both are honest).
+    /// The alignment against the prediction: squared Mahalanobis distance under the prediction's
+    /// and the registration's covariances (6 on average when both are honest).
     double prior_mahalanobis_squared = 0.0;
-    /// The registration's weight in the smoother after the robust loss on that distance.
+    /// The registration's weight in the smoother: 1 within smoother.max_registration_chi2 of the
+    /// prediction; beyond, its information is scaled by this until it is that far (0 without a
+    /// registration).
     double registration_weight = 0.0;
     double threshold_m = 0.0;  ///< correspondence threshold used
     int doppler_residuals = 0;
