@@ -19,7 +19,7 @@ namespace dorado::apps {
 namespace {
 
 struct MapOptions {
-    std::string dataset, out, config, odometry_config, prior = "doppler", refine, radars = "all";
+    std::string dataset, data, out, config, odometry_config, prior = "doppler", refine, radars = "all";
     bool no_mask = false, masks = false, fixed_mounts = false;
 };
 
@@ -58,8 +58,8 @@ frontend::FrontEndConfig FrontEndConfigOf(const MapOptions &opt,
 
 void RunMap(const MapOptions &opt) {
     const io::DatasetConfig dataset =
-        opt.radars == "all" ? io::ResolveDataset(opt.dataset)
-                            : SelectRadar(io::ResolveDataset(opt.dataset), opt.radars);
+        opt.radars == "all" ? io::ResolveDataset(opt.dataset, opt.data)
+                            : SelectRadar(io::ResolveDataset(opt.dataset, opt.data), opt.radars);
     const dorado::config::MapCommandConfig map_config =
         opt.config.empty() ? dorado::config::MapCommandConfig{}
                            : dorado::config::LoadMapConfig(opt.config);
@@ -130,6 +130,7 @@ void RegisterMapCommand(CLI::App &app) {
            "DATASET", opt->dataset,
            "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")
         ->required();
+    AddDataOption(cmd, opt->data);
     cmd->add_option("--out", opt->out, "output folder")->required();
     cmd->add_option("--prior", opt->prior,
                     "motion prior: none | constvel | imu | doppler (default) | imu+doppler");

@@ -24,7 +24,7 @@ namespace dorado::apps {
 namespace {
 
 struct OdometryOptions {
-    std::string dataset, out, config, method, rotation, radars;
+    std::string dataset, data, out, config, method, rotation, radars;
     bool masks = false;
 };
 
@@ -118,7 +118,7 @@ std::string CauseList(const std::map<odometry::FallbackCause, int> &causes) {
 }
 
 void RunOdometry(const OdometryOptions &opt) {
-    const io::DatasetConfig dataset = SelectRadar(io::ResolveDataset(opt.dataset), opt.radars);
+    const io::DatasetConfig dataset = SelectRadar(io::ResolveDataset(opt.dataset, opt.data), opt.radars);
     const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "odometry");
     frontend::FrontEndConfig config;
     config.run_mapper = false;
@@ -234,6 +234,7 @@ void RegisterOdometryCommand(CLI::App &app) {
            "DATASET", opt->dataset,
            "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")
         ->required();
+    AddDataOption(cmd, opt->data);
     cmd->add_option("--out", opt->out, "output folder")->required();
     cmd->add_option("--config", opt->config,
                     "odometry settings (configs/odometry.yaml; every key and default: "

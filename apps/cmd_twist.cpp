@@ -32,7 +32,7 @@ namespace dorado::apps {
 namespace {
 
 struct TwistOptions {
-    std::string dataset, out, config;
+    std::string dataset, data, out, config;
     bool fixed_mounts = false;
 };
 
@@ -42,7 +42,7 @@ struct RadarCounts {
 };
 
 void RunTwist(const TwistOptions &opt) {
-    const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset);
+    const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset, opt.data);
     if (dataset.radars.size() < 2)
         throw io::ConfigError(opt.dataset +
                               ": key 'radars': dorado twist needs a list of >= 2 radars (name, "
@@ -154,6 +154,7 @@ void RegisterTwistCommand(CLI::App &app) {
         "dataset's radars: list");
     cmd->add_option("DATASET", opt->dataset, "dataset description (.yaml) with radars:")
         ->required();
+    AddDataOption(cmd, opt->data);
     cmd->add_option("--out", opt->out, "output folder")->required();
     cmd->add_option("--config", opt->config, "odometry settings (its ego_velocity section)");
     cmd->add_flag("--fixed-mounts", opt->fixed_mounts,
