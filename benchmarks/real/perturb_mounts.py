@@ -57,7 +57,7 @@ def compare(args):
     # The perturbed run starts from published + d; it recovers published + d + offset.
     diffs = [(p["mount_yaw_offset_deg"] + dk) - u["mount_yaw_offset_deg"]
              for u, p, dk in zip(runs[0], runs[1], d)]
-    print("| %s | %s | %.3f |" % (args.perturbed_run_dir,
+    print("| %s | %s | %.3f |" % (os.path.basename(os.path.normpath(args.perturbed_run_dir)),
                                  ", ".join("%s %+.3f" % (r["name"], x) for r, x in zip(runs[0], diffs)),
                                  max(abs(x) for x in diffs)))
 
