@@ -95,21 +95,24 @@ void RunEval(const EvalOptions &o) {
         PrintRow(o.sim3 ? "ate_sim3 [m]" : "ate_se3 [m]", ate_stats);
     }
     const eval::EndPointError end = eval::ComputeEndPointError(poses);
-    std::printf("end_point_error          %.3f m, %.3f %% of the reference's %.1f m path (start "
-                "poses aligned)\n",
-                end.error_m, end.percent, end.path_length_m);
+    std::printf(
+        "end_point_error          %.3f m, %.3f %% of the reference's %.1f m path (start "
+        "poses aligned)\n",
+        end.error_m, end.percent, end.path_length_m);
     const eval::DriftConfig drift_config;
     const eval::DriftResult drift = eval::ComputeKittiDrift(poses, drift_config);
     const double shortest_m =
         *std::min_element(drift_config.lengths_m.begin(), drift_config.lengths_m.end());
     if (drift.segments > 0)
-        std::printf("kitti_drift (100-800 m)  %.3f %% translation, %.3f deg/100 m rotation, %d "
-                    "segments\n",
-                    drift.translation_percent, drift.rotation_deg_per_100m, drift.segments);
+        std::printf(
+            "kitti_drift (100-800 m)  %.3f %% translation, %.3f deg/100 m rotation, %d "
+            "segments\n",
+            drift.translation_percent, drift.rotation_deg_per_100m, drift.segments);
     else
-        std::printf("kitti_drift (100-800 m)  none: the reference's path is %.1f m, not longer "
-                    "than the shortest segment (%.0f m)\n",
-                    end.path_length_m, shortest_m);
+        std::printf(
+            "kitti_drift (100-800 m)  none: the reference's path is %.1f m, not longer "
+            "than the shortest segment (%.0f m)\n",
+            end.path_length_m, shortest_m);
     if (o.json_path.empty()) return;
     nlohmann::json j = {
         {"gt", o.gt_path},
@@ -123,10 +126,10 @@ void RunEval(const EvalOptions &o) {
         {"rpe_translation_m_per_pair", rpe.translation_m},
         {"rpe_rotation_deg_per_pair", rpe.rotation_deg},
     };
-    j["end_point_error"] = {{"error_m", end.error_m},
-                            {"path_length_m", end.path_length_m},
-                            {"percent", std::isfinite(end.percent) ? nlohmann::json(end.percent)
-                                                                   : nlohmann::json()}};
+    j["end_point_error"] = {
+        {"error_m", end.error_m},
+        {"path_length_m", end.path_length_m},
+        {"percent", std::isfinite(end.percent) ? nlohmann::json(end.percent) : nlohmann::json()}};
     if (drift.segments > 0) {
         j["kitti_drift"] = {{"translation_percent", drift.translation_percent},
                             {"rotation_deg_per_100m", drift.rotation_deg_per_100m},

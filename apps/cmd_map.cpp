@@ -19,7 +19,8 @@ namespace dorado::apps {
 namespace {
 
 struct MapOptions {
-    std::string dataset, data, out, config, odometry_config, prior = "doppler", refine, radars = "all";
+    std::string dataset, out, config, odometry_config, prior = "doppler", refine, radars = "all";
+    std::string data;  // --data DIR
     bool no_mask = false, masks = false, fixed_mounts = false;
 };
 

@@ -118,7 +118,8 @@ std::string CauseList(const std::map<odometry::FallbackCause, int> &causes) {
 }
 
 void RunOdometry(const OdometryOptions &opt) {
-    const io::DatasetConfig dataset = SelectRadar(io::ResolveDataset(opt.dataset, opt.data), opt.radars);
+    const io::DatasetConfig dataset =
+        SelectRadar(io::ResolveDataset(opt.dataset, opt.data), opt.radars);
     const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "odometry");
     frontend::FrontEndConfig config;
     config.run_mapper = false;

@@ -127,7 +127,8 @@ BenchConfig ParseBenchConfig(const std::string &yaml_text, const std::string &ba
     }
     // The sequences' data: are taken from --data DIR, else data_dir:, else this file's folder.
     root("data_dir", config.data_dir, kPath, "");
-    const std::string data_root = !data_dir.empty()          ? io::ResolvePath(data_dir, "")
+    const std::string data_root = !data_dir.empty()
+                                      ? io::ResolvePath(fs::absolute(data_dir).string(), "")
                                   : !config.data_dir.empty() ? config.data_dir
                                                              : base_dir;
     std::set<std::string> names;

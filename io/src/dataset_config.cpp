@@ -184,8 +184,8 @@ void RequireReader(const YAML::Node &root, FieldReader &in) {
     std::string hint;
     for (const char *section : {"folder", "radarscenes", "nuscenes"}) {
         if (root.IsMap() && root[section].IsDefined() && !root[section].IsNull()) {
-            hint = std::string(" (this description has a ") + section + ": section: add reader: " +
-                   section + ")";
+            hint = std::string(" (this description has a ") + section +
+                   ": section: add reader: " + section + ")";
             break;
         }
     }
@@ -273,12 +273,13 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path, const std::string 
     config.name = fs::path(yaml_path).stem().string();
     RequireReader(root, in);
     in("reader", config.reader, ReaderKindChoices(), "");
+    RejectKeysTheReaderDoesNotRead(root, in.Section(""), config.reader);
     VisitFields(config, DescriptionReader{in, data_option, description_dir, config});
     const bool has_radars = in.Has("radars");
-    in.RejectUnknownKeys();
-    RejectKeysTheReaderDoesNotRead(root, in.Section(""), config.reader);
+    in.RejectUnknownKeys();  // before the radars' and the fields' checks of missing keys
     for (const auto &path : in.paths_read())
-        if (path.key != "data_dir") config.inputs.push_back({path.key, path.written, path.resolved});
+        if (path.key != "data_dir")
+            config.inputs.push_back({path.key, path.written, path.resolved});
     if (has_radars) ReadRadars(root, in, yaml_path, config.path_base_dir, config);
     CheckFields(in, config);
     if (!in.Has("extrinsics.T_base_radar")) ApplyFormatMount(config);  // the data set's own

@@ -100,8 +100,8 @@ TEST_F(CmdData, ShippedDescriptionCopiedAnywhereRunsWithData) {
 
     // Without --data the copy's data_dir: (relative to the copy) leads nowhere: the error says
     // which key, how its path was resolved, and how to change it; no output is written.
-    const Result missing = Dorado("map " + copy + " --prior doppler --out " +
-                                  (dir_ / "map2").string());
+    const Result missing =
+        Dorado("map " + copy + " --prior doppler --out " + (dir_ / "map2").string());
     EXPECT_EQ(missing.code, 1);
     for (const std::string expected :
          {"key 'folder.scans_dir'", "written radar_front/scans",
@@ -112,8 +112,7 @@ TEST_F(CmdData, ShippedDescriptionCopiedAnywhereRunsWithData) {
     // --data naming a folder without the description's files: the same, taken from --data.
     const Result wrong = Dorado("info " + copy + " --data " + dir_.string());
     EXPECT_EQ(wrong.code, 1);
-    EXPECT_NE(wrong.err.find("taken from --data " + dir_.string()), std::string::npos)
-        << wrong.err;
+    EXPECT_NE(wrong.err.find("taken from --data " + dir_.string()), std::string::npos) << wrong.err;
 }
 
 TEST_F(CmdData, InfoReadsEveryRadarOfTheList) {
@@ -166,9 +165,8 @@ TEST_F(CmdData, BenchWithAMissingInputFailsBeforeItsFirstRun) {
            "  - {name: whole, dataset: two.yaml, ground_truth: gt.tum}\n"
            "  - {name: other, dataset: two.yaml, data: elsewhere, ground_truth: gt.tum}\n";
     fs::create_directories(dir_ / "elsewhere" / "front" / "scans");  // no times.txt, no left/
-    const Result r =
-        Dorado("bench " + (dir_ / "bench.yaml").string() + " --no-plot --out " +
-               (dir_ / "bench_out").string());
+    const Result r = Dorado("bench " + (dir_ / "bench.yaml").string() + " --no-plot --out " +
+                            (dir_ / "bench_out").string());
     EXPECT_EQ(r.code, 1);
     for (const std::string expected :
          {"sequence 'other'", "key 'folder.timestamps_file'", "front/times.txt",

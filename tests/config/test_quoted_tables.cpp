@@ -51,7 +51,8 @@ struct Quote {
 
 std::vector<Quote> Quotes(const std::string &page) {
     std::vector<Quote> quotes;
-    const std::regex block("<!-- quoted from generated/(\\S+): (\\S+) -->\n([\\s\\S]*?)<!-- end quote -->");
+    const std::regex block(
+        "<!-- quoted from generated/(\\S+): (\\S+) -->\n([\\s\\S]*?)<!-- end quote -->");
     for (std::sregex_iterator it(page.begin(), page.end(), block), end; it != end; ++it)
         quotes.push_back({(*it)[1], (*it)[2], (*it)[3]});
     return quotes;
@@ -96,11 +97,12 @@ TEST(QuotedTables, RealRecordingPagesQuoteTheirMeasuredTables) {
 TEST(QuotedTables, OneDigitChangedIsADisagreement) {
     const fs::path dir = fs::path(::testing::TempDir()) / "dorado_quoted_tables";
     fs::create_directories(dir);
-    std::ofstream(dir / "g.md") << "<!-- table t -->\n| a |\n|---|\n| 0.526 |\n<!-- end table -->\n";
+    std::ofstream(dir / "g.md")
+        << "<!-- table t -->\n| a |\n|---|\n| 0.526 |\n<!-- end table -->\n";
     const auto tables = GeneratedTables(dir / "g.md");
-    const auto quotes =
-        Quotes("x\n<!-- quoted from generated/g.md: t -->\n| a |\n|---|\n| 0.202 |\n"
-               "<!-- end quote -->\n");
+    const auto quotes = Quotes(
+        "x\n<!-- quoted from generated/g.md: t -->\n| a |\n|---|\n| 0.202 |\n"
+        "<!-- end quote -->\n");
     ASSERT_EQ(quotes.size(), 1u);
     ASSERT_EQ(tables.count("t"), 1u);
     EXPECT_NE(quotes[0].body, tables.at("t"));

@@ -13,7 +13,8 @@ EndPointError ComputeEndPointError(const AssociatedPoses &poses) {
         result.path_length_m +=
             (poses.T_world_ref[k].translation() - poses.T_world_ref[k - 1].translation()).norm();
     // The estimate's frame put on the reference's at the first pose: world_ref <- world_est.
-    const Eigen::Isometry3d T_ref_est = poses.T_world_ref.front() * poses.T_world_est.front().inverse();
+    const Eigen::Isometry3d T_ref_est =
+        poses.T_world_ref.front() * poses.T_world_est.front().inverse();
     const Eigen::Vector3d end_est = (T_ref_est * poses.T_world_est.back()).translation();
     result.error_m = (end_est - poses.T_world_ref.back().translation()).norm();
     result.percent = result.path_length_m > 0.0 ? 100.0 * result.error_m / result.path_length_m
