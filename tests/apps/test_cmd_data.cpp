@@ -13,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -168,9 +169,9 @@ TEST_F(CmdData, BenchWithAMissingInputFailsBeforeItsFirstRun) {
     const Result r = Dorado("bench " + (dir_ / "bench.yaml").string() + " --no-plot --out " +
                             (dir_ / "bench_out").string());
     EXPECT_EQ(r.code, 1);
-    for (const std::string expected :
-         {"sequence 'other'", "key 'folder.timestamps_file'", "front/times.txt",
-          "taken from --data " + (dir_ / "elsewhere").string()})
+    for (const std::string &expected : std::vector<std::string>{
+             "sequence 'other'", "key 'folder.timestamps_file'", "front/times.txt",
+             "taken from --data " + (dir_ / "elsewhere").string()})
         EXPECT_NE(r.err.find(expected), std::string::npos) << expected << "\n" << r.err;
     EXPECT_EQ(r.err.find(" runs ("), std::string::npos) << r.err;  // "bench: N runs (...)"
     EXPECT_FALSE(fs::exists(dir_ / "bench_out" / "runs")) << r.err;
