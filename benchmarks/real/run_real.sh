@@ -14,6 +14,7 @@
 # the velocity and mask scores). Then the pages' quoted tables are refreshed from the file.
 #   benchmarks/real/run_real.sh [OUT_DIR] [DORADO] [GENERATED]   (from the repository root, ~3 minutes)
 #   GENERATED defaults to docs/generated/real_recordings.md
+#   TABLES_ONLY=1 benchmarks/real/run_real.sh OUT_DIR ...   the tables again from the runs in OUT_DIR
 set -euo pipefail
 out=${1:-out/real}
 dorado=${2:-build/apps/dorado}
@@ -34,30 +35,32 @@ row() {  # row DATASET NAME TITLE [score args]
     /usr/bin/python3 $score "$1" "$out/$2" --dorado "$dorado" --name "$3" "${@:4}"
 }
 
-run rs_odo odometry configs/radarscenes.yaml --masks
-run nu_odo odometry $nu --masks
-for r in radar1 radar2 radar3 radar4; do run rs_map_$r map $rs --radars $r; done
-run rs_map_radar3_automotive map $rs --radars radar3 --config configs/mapper_automotive.yaml
-run nu_map_front map $nu --radars first
-run nu_map_front_automotive map $nu --radars first --config configs/mapper_automotive.yaml
-for d in rs nu; do
-    cfg=$rs; [ $d = nu ] && cfg=$nu
-    run ${d}_twist twist $cfg
-    run ${d}_twist_fixed twist $cfg --fixed-mounts
-    run ${d}_map map $cfg
-    run ${d}_map_fixed map $cfg --fixed-mounts
-    for sign in 1 -1; do
-        /usr/bin/python3 $perturb write $cfg "$out/${d}_perturbed$sign.yaml" --sign $sign
-        run ${d}_map_perturbed$sign map "$out/${d}_perturbed$sign.yaml"
-        run ${d}_map_perturbed${sign}_fixed map "$out/${d}_perturbed$sign.yaml" --fixed-mounts
+if [ -z "${TABLES_ONLY:-}" ]; then
+    run rs_odo odometry configs/radarscenes.yaml --masks
+    run nu_odo odometry $nu --masks
+    for r in radar1 radar2 radar3 radar4; do run rs_map_$r map $rs --radars $r; done
+    run rs_map_radar3_automotive map $rs --radars radar3 --config configs/mapper_automotive.yaml
+    run nu_map_front map $nu --radars first
+    run nu_map_front_automotive map $nu --radars first --config configs/mapper_automotive.yaml
+    for d in rs nu; do
+        cfg=$rs; [ $d = nu ] && cfg=$nu
+        run ${d}_twist twist $cfg
+        run ${d}_twist_fixed twist $cfg --fixed-mounts
+        run ${d}_map map $cfg
+        run ${d}_map_fixed map $cfg --fixed-mounts
+        for sign in 1 -1; do
+            /usr/bin/python3 $perturb write $cfg "$out/${d}_perturbed$sign.yaml" --sign $sign
+            run ${d}_map_perturbed$sign map "$out/${d}_perturbed$sign.yaml"
+            run ${d}_map_perturbed${sign}_fixed map "$out/${d}_perturbed$sign.yaml" --fixed-mounts
+        done
     done
-done
-ti=configs/ti_mmwave.yaml
-run ti_odo odometry $ti --method imu+doppler
-run ti_map map $ti --prior imu+doppler --config configs/mapper_sparse.yaml
-run ti_map_constvel map $ti --prior constvel --config configs/mapper_sparse.yaml
-rm -rf "$out/bench_real"
-"$dorado" bench configs/benchmark_real.yaml --no-plot --out "$out/bench_real" 2> "$out/bench_real.log"
+    ti=configs/ti_mmwave.yaml
+    run ti_odo odometry $ti --method imu+doppler
+    run ti_map map $ti --prior imu+doppler --config configs/mapper_sparse.yaml
+    run ti_map_constvel map $ti --prior constvel --config configs/mapper_sparse.yaml
+    rm -rf "$out/bench_real"
+    "$dorado" bench configs/benchmark_real.yaml --no-plot --out "$out/bench_real" 2> "$out/bench_real.log"
+fi
 
 table() {  # table NAME: the markers around one table of the generated file
     echo
@@ -83,8 +86,11 @@ end_table() { echo "<!-- end table -->"; }
     end_table
 
     table automotive_one_radar_each
-    row $rs rs_map_radar1 "RadarScenes 105 radar 1 alone, map" --header
-    for r in radar2 radar3 radar4; do row $rs rs_map_$r "RadarScenes 105 $r alone, map"; done
+    first=--header
+    for r in 1 2 3 4; do
+        row $rs rs_map_radar$r "RadarScenes 105 radar $r alone, map" $first
+        first=
+    done
     end_table
 
     table automotive_every_radar

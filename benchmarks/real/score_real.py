@@ -164,9 +164,10 @@ def main():
     heads = ["path [m]", "valid", "ATE [m]", "RPE 1 s [m]", "RPE 1 s [deg]", "drift [%]",
              "drift [deg/100 m]", "end [% path]", "end [m]", "v RMSE [m/s]", "yaw rate RMSE [deg/s]",
              "moving P / R (label)", "moving P / R (reference)"]
-    if "w_rmse_pair" in row:
-        cols.append("w_rmse_pair")
-        heads.append("yaw rate RMSE joint / kinematic, same scans [deg/s]")
+    # dorado twist only (else "-"): one column set for every run, so that rows of runs of both kinds
+    # make one table.
+    cols.append("w_rmse_pair")
+    heads.append("twist: yaw rate RMSE joint / kinematic, same scans [deg/s]")
     if args.header:
         print("| run | " + " | ".join(heads) + " |")
         print("|---|" + "---:|" * len(heads))
