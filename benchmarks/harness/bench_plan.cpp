@@ -49,6 +49,10 @@ BenchSequence ParseSequence(const YAML::Node &node, std::size_t index, const std
         s.data = io::ResolvePath(s.data, data_root);
         const std::string ext = fs::path(s.dataset).extension().string();
         if (s.ground_truth.empty() && (ext == ".yaml" || ext == ".yml")) {
+            std::error_code ec;
+            if (!s.data.empty() && !fs::is_directory(s.data, ec))
+                in.Fail("data", s.data + ": no such folder (relative paths taken from " +
+                                    data_root + ": change data:, data_dir: or --data DIR)");
             try {  // the description's reference, its path resolved as the runs resolve it
                 s.ground_truth = io::LoadDatasetConfig(s.dataset, s.data).ground_truth.path;
             } catch (const std::exception &e) {
@@ -186,6 +190,9 @@ void CheckBenchInputs(const BenchConfig &config) {
     for (const BenchSequence &seq : config.sequences) {
         if (!seq.simulate_sequence.empty()) continue;
         const std::string where = "sequence '" + seq.name + "'";
+        std::error_code ec;
+        if (!seq.data.empty() && !fs::is_directory(seq.data, ec))
+            throw std::runtime_error(where + ": data: " + seq.data + ": no such folder");
         try {
             (void)io::ResolveDataset(seq.dataset, seq.data);  // every path the runs will open
         } catch (const std::exception &e) {
