@@ -29,9 +29,9 @@ TEST(DatasetFields, EveryMemberIsAField) {
     DatasetConfig config;
     // config_path, path_base, path_base_dir, inputs: where it came from and how its paths were
     // resolved; radars: a list, each radar RadarStream's list.
-    EXPECT_EQ(testing::MembersWithoutField(config, {&config.config_path, &config.path_base,
-                                                    &config.path_base_dir, &config.inputs,
-                                                    &config.radars}),
+    EXPECT_EQ(testing::MembersWithoutField(
+                  config, {&config.config_path, &config.path_base, &config.path_base_dir,
+                           &config.inputs, &config.radars}),
               std::vector<std::string>{});
     RadarStream radar;
     EXPECT_EQ(testing::MembersWithoutField(radar, {}), std::vector<std::string>{});
