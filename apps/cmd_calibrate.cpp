@@ -27,6 +27,7 @@ struct CalibrateOptions {
     double from_s = -1.0, to_s = -1.0;
     double min_speed_mps = 0.2;
     double window_s = 0.5, rest_s = 1.0;  // doppler-sign
+    io::DatasetChoice choice;             // --scene, --sequence
 };
 
 /// Per valid, moving scan in the time range: the radar velocity and the mean gyro rate in the base
@@ -175,7 +176,7 @@ void RunDopplerSign(const CalibrateOptions &opt, const io::DatasetConfig &datase
 }
 
 void RunCalibrate(const CalibrateOptions &opt) {
-    const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset, opt.data);
+    const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset, opt.data, opt.choice);
     if (opt.step == "doppler-sign") {
         if (!HasImu(dataset))
             throw io::ConfigError(opt.dataset + ": key '" + ImuKey(dataset) +
@@ -245,6 +246,7 @@ void RegisterCalibrateCommand(CLI::App &app) {
     cmd->add_option("--from", opt->from_s, "start [s from the first scan]");
     cmd->add_option("--to", opt->to_s, "end [s from the first scan]");
     cmd->add_option("--out", opt->out, "YAML snippet to write")->required();
+    AddDatasetChoiceOptions(*cmd, opt->choice);
     cmd->add_option("--config", opt->config, "odometry settings (ego_velocity section is used)");
     cmd->add_option("--min-speed", opt->min_speed_mps, "ignore scans slower than this [m/s]");
     cmd->add_option("--window", opt->window_s, "doppler-sign: comparison window [s]");

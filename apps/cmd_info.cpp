@@ -113,7 +113,7 @@ void PrintRadars(const io::DatasetConfig &config, ProblemLog &problems) {
         const io::RadarStream &radar = config.radars[k];
         const Eigen::Vector3d t = radar.T_base_radar.translation();
         const double yaw_deg = RadToDeg(RollPitchYaw(radar.T_base_radar.linear()).z());
-        std::printf("  %-12s mount x %6.3f y %6.3f z %5.2f m, yaw %8.3f deg", radar.name.c_str(),
+        std::printf("  %-17s mount x %6.3f y %6.3f z %5.2f m, yaw %8.3f deg", radar.name.c_str(),
                     t.x(), t.y(), t.z(), yaw_deg);
         try {
             io::DatasetConfig one = io::ForRadar(config, k);
@@ -136,17 +136,21 @@ std::string DescribeSource(const io::DatasetConfig &config) {
         case io::ReaderKind::kFolder:
             return "folder " + config.folder.scans_dir;
         case io::ReaderKind::kRadarScenes:
-            return "RadarScenes " + config.radarscenes.sequence_dir + ", sensor_id " +
-                   std::to_string(config.radarscenes.sensor_id);
+            return "RadarScenes " + config.radarscenes.sequence_dir + ", " +
+                   (config.radarscenes.sensor_id == 0
+                        ? "every radar"
+                        : "sensor_id " + std::to_string(config.radarscenes.sensor_id));
         case io::ReaderKind::kNuScenes:
             return "nuScenes " + config.nuscenes.dataroot + " " + config.nuscenes.version + ", " +
-                   config.nuscenes.scene + ", " + config.nuscenes.channel;
+                   config.nuscenes.scene + ", " +
+                   (config.nuscenes.channel.empty() ? "every radar" : config.nuscenes.channel);
     }
     return "";
 }
 
-int RunInfo(const std::string &dataset_arg, const std::string &data_dir) {
-    const io::DatasetConfig config = io::ResolveDataset(dataset_arg, data_dir);
+int RunInfo(const std::string &dataset_arg, const std::string &data_dir,
+            const io::DatasetChoice &choice) {
+    const io::DatasetConfig config = io::ResolveDataset(dataset_arg, data_dir, choice);
     const bool is_bag = config.reader == io::ReaderKind::kRosbag;
     std::printf("dataset: %s (%s)\n", config.name.c_str(), DescribeSource(config).c_str());
     // A layout the folder's files do not fit: every scan would be refused or read wrongly.
@@ -333,14 +337,16 @@ void RegisterInfoCommand(CLI::App &app) {
         "info", "Print what a dataset holds: topics, scan rate, points per scan, fields, problems");
     auto dataset = std::make_shared<std::string>();
     auto data_dir = std::make_shared<std::string>();
+    auto choice = std::make_shared<io::DatasetChoice>();
     cmd->add_option(
            "DATASET", *dataset,
            "dataset description (.yaml), a recording (ROS1 .bag, rosbag2 .db3 or .mcap, or a "
            "rosbag2 folder), or a folder with dataset.yaml")
         ->required();
     AddDataOption(cmd, *data_dir);
-    cmd->callback([dataset, data_dir]() {
-        const int code = RunInfo(*dataset, *data_dir);
+    AddDatasetChoiceOptions(*cmd, *choice);
+    cmd->callback([dataset, data_dir, choice]() {
+        const int code = RunInfo(*dataset, *data_dir, *choice);
         if (code != 0) throw CLI::RuntimeError(code);
     });
 }

@@ -1,5 +1,6 @@
 // `dorado map DATASET --prior P --out DIR`: radar scan-to-map mapping with a motion prior (paper
-// section IV-C), the Doppler estimator's dynamic-point mask, and a Doppler-aware refinement.
+// section IV-C), the Doppler estimator's dynamic-point mask, a Doppler-aware registration and
+// the fixed-lag smoother whose poses are written.
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -19,9 +20,10 @@ namespace dorado::apps {
 namespace {
 
 struct MapOptions {
-    std::string dataset, out, config, odometry_config, prior = "doppler", refine, radars = "all";
+    std::string dataset, out, config, odometry_config, prior = "doppler", radars = "all";
     std::string data;  // --data DIR
     bool no_mask = false, masks = false, fixed_mounts = false;
+    io::DatasetChoice choice;  // --scene, --sequence
 };
 
 // DIR/masks/NNNNNN.txt: what the map used of each point (the odometry's labels, and 3 for the
@@ -50,8 +52,6 @@ frontend::FrontEndConfig FrontEndConfigOf(const MapOptions &opt,
         config.odometry = dorado::config::LoadOdometryConfig(opt.odometry_config);
     config.mapper = map_config.mapper;
     config.prior_noise = map_config.prior;
-    if (!opt.refine.empty())
-        config.mapper.refinement = dorado::config::ParseRefinementKey(opt.refine, "--refine");
     config.prior = dorado::config::ParsePriorKindKey(opt.prior, "--prior");
     config.use_mask = !opt.no_mask;
     return config;
@@ -59,8 +59,9 @@ frontend::FrontEndConfig FrontEndConfigOf(const MapOptions &opt,
 
 void RunMap(const MapOptions &opt) {
     const io::DatasetConfig dataset =
-        opt.radars == "all" ? io::ResolveDataset(opt.dataset, opt.data)
-                            : SelectRadar(io::ResolveDataset(opt.dataset, opt.data), opt.radars);
+        opt.radars == "all"
+            ? io::ResolveDataset(opt.dataset, opt.data, opt.choice)
+            : SelectRadar(io::ResolveDataset(opt.dataset, opt.data, opt.choice), opt.radars);
     const dorado::config::MapCommandConfig map_config =
         opt.config.empty() ? dorado::config::MapCommandConfig{}
                            : dorado::config::LoadMapConfig(opt.config);
@@ -75,10 +76,6 @@ void RunMap(const MapOptions &opt) {
             throw io::ConfigError(
                 "--masks: per-point masks are written for one radar; with the "
                 "dataset's radars: list add --radars first (or a radar's name)");
-        if (config.mapper.refinement == mapping::Refinement::kWindow)
-            throw io::ConfigError(
-                "refinement window: a 6-DoF smoother; several radars map in the "
-                "plane (ceres, none or filter)");
         odometry::PlanarTwistFilterConfig twist_filter;
         twist_filter.calibrate_mount_yaw = !opt.fixed_mounts;
         RunMultiRadarMap(dataset, config, twist_filter, opt.out);
@@ -102,6 +99,7 @@ void RunMap(const MapOptions &opt) {
              });
     guard.ThrowIfNoScanUsed(loop.used(), reader->source());
 
+    outputs.AddWritten(front_end.Finish());  // the poses still in the smoother
     outputs.Write(opt.out, front_end.trajectory());
     nlohmann::json summary = MapRunSummary(dataset.name, config, guard.stopped());
     summary.update({{"scans", loop.scans()},
@@ -126,13 +124,15 @@ void RegisterMapCommand(CLI::App &app) {
     auto opt = std::make_shared<MapOptions>();
     auto *cmd = app.add_subcommand("map",
                                    "Radar scan-to-map mapping with a motion prior, the Doppler "
-                                   "dynamic-point mask and a Doppler-aware Ceres refinement.");
+                                   "dynamic-point mask, a Doppler-aware registration and a "
+                                   "fixed-lag smoother whose poses are written and mapped.");
     cmd->add_option(
            "DATASET", opt->dataset,
            "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")
         ->required();
     AddDataOption(cmd, opt->data);
     cmd->add_option("--out", opt->out, "output folder")->required();
+    AddDatasetChoiceOptions(*cmd, opt->choice);
     cmd->add_option("--prior", opt->prior,
                     "motion prior: none | constvel | imu | doppler (default) | imu+doppler");
     cmd->add_option("--config", opt->config,
@@ -152,9 +152,6 @@ void RegisterMapCommand(CLI::App &app) {
     cmd->add_flag("--masks", opt->masks,
                   "write DIR/masks/NNNNNN.txt: per point 0 static, 1 dynamic, 2 filtered, 3 kept "
                   "out by the mover rules");
-    cmd->add_option("--refine", opt->refine,
-                    "ceres (default), window (fixed-lag smoother), none (PCL registration only) or "
-                    "filter (ceres, the output an error-state filter over the map chain)");
     cmd->callback([opt] { RunMap(*opt); });
 }
 

@@ -26,6 +26,7 @@ namespace {
 struct OdometryOptions {
     std::string dataset, data, out, config, method, rotation, radars;
     bool masks = false;
+    io::DatasetChoice choice;  // --scene, --sequence
 };
 
 std::string Num(double v) {
@@ -119,7 +120,7 @@ std::string CauseList(const std::map<odometry::FallbackCause, int> &causes) {
 
 void RunOdometry(const OdometryOptions &opt) {
     const io::DatasetConfig dataset =
-        SelectRadar(io::ResolveDataset(opt.dataset, opt.data), opt.radars);
+        SelectRadar(io::ResolveDataset(opt.dataset, opt.data, opt.choice), opt.radars);
     const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "odometry");
     frontend::FrontEndConfig config;
     config.run_mapper = false;
@@ -237,6 +238,7 @@ void RegisterOdometryCommand(CLI::App &app) {
         ->required();
     AddDataOption(cmd, opt->data);
     cmd->add_option("--out", opt->out, "output folder")->required();
+    AddDatasetChoiceOptions(*cmd, opt->choice);
     cmd->add_option("--config", opt->config,
                     "odometry settings (configs/odometry.yaml; every key and default: "
                     "`dorado config print odometry`)");

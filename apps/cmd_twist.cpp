@@ -34,6 +34,7 @@ namespace {
 struct TwistOptions {
     std::string dataset, data, out, config;
     bool fixed_mounts = false;
+    io::DatasetChoice choice;  // --scene, --sequence
 };
 
 struct RadarCounts {
@@ -42,7 +43,7 @@ struct RadarCounts {
 };
 
 void RunTwist(const TwistOptions &opt) {
-    const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset, opt.data);
+    const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset, opt.data, opt.choice);
     if (dataset.radars.size() < 2)
         throw io::ConfigError(opt.dataset +
                               ": key 'radars': dorado twist needs a list of >= 2 radars (name, "
@@ -156,6 +157,7 @@ void RegisterTwistCommand(CLI::App &app) {
         ->required();
     AddDataOption(cmd, opt->data);
     cmd->add_option("--out", opt->out, "output folder")->required();
+    AddDatasetChoiceOptions(*cmd, opt->choice);
     cmd->add_option("--config", opt->config, "odometry settings (its ego_velocity section)");
     cmd->add_flag("--fixed-mounts", opt->fixed_mounts,
                   "keep the published mounts (default: each radar's mount yaw is estimated while "

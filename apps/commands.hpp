@@ -4,6 +4,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "dorado/io/dataset_config.hpp"
+
 namespace dorado::apps {
 
 void RegisterInfoCommand(CLI::App &app);
@@ -26,5 +28,9 @@ inline constexpr const char *kDataOptionHelp =
 inline CLI::Option *AddDataOption(CLI::App *cmd, std::string &data_dir) {
     return cmd->add_option("--data", data_dir, kDataOptionHelp)->type_name("DIR");
 }
+
+/// `--scene NAME` (nuScenes) and `--sequence N` (RadarScenes) on a command that reads a dataset:
+/// another scene or sequence of the same release than the description's (io::DatasetChoice).
+void AddDatasetChoiceOptions(CLI::App &cmd, io::DatasetChoice &choice);
 
 }  // namespace dorado::apps

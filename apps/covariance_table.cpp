@@ -50,19 +50,15 @@ std::string Columns(const Eigen::Isometry3d *T, const Matrix6d &C) {
 
 CovarianceTable::CovarianceTable() : csv_(Header()) {}
 
-void CovarianceTable::Add(const frontend::FrontEndResult &result) {
-    const mapping::RegistrationResult &r = result.registration;
-    const char *status = r.first_scan         ? "first_scan"
-                         : r.fallback()       ? "fallback"
-                         : r.registered.valid ? "fused"
-                                              : "unrefined";
+void CovarianceTable::Add(const mapping::WrittenPose &w) {
+    const char *status = w.first_scan ? "first_scan" : w.registered.valid ? "fused" : "fallback";
     char t[32];
-    std::snprintf(t, sizeof(t), "%.9f", NanosToSeconds(result.stamp_ns));
+    std::snprintf(t, sizeof(t), "%.9f", NanosToSeconds(w.stamp_ns));
     csv_ += std::string(t) + "," + status;
-    csv_ += Columns(&result.T_world_base, r.covariance);
+    csv_ += Columns(&w.T_world_base, w.covariance);
     csv_ +=
-        Columns(r.registered.valid ? &r.registered.T_world_base : nullptr, r.registered.covariance);
-    csv_ += Columns(r.first_scan ? nullptr : &result.prior.T_world_base, result.prior.covariance);
+        Columns(w.registered.valid ? &w.registered.T_world_base : nullptr, w.registered.covariance);
+    csv_ += Columns(w.first_scan ? nullptr : &w.prior.T_world_base, w.prior.covariance);
     csv_ += "\n";
 }
 

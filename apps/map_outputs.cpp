@@ -18,8 +18,7 @@ constexpr const char *kCsvHeader =
     "t,time_doppler_ms,time_prior_ms,time_preprocess_ms,time_registration_ms,time_refinement_ms,"
     "time_map_update_ms,time_total_ms,correspondences,fitness,fallback,fallback_reason,prior,"
     "prior_substitution,local_map_points,s_x_online_m,sigma_s_x_online_m,yaw_calibration,"
-    "mover_points_dropped,map_points_dropped,prior_scale_translation,prior_scale_rotation,"
-    "registration_scale_translation,registration_scale_rotation\n";
+    "mover_points_dropped,map_points_dropped,prior_mahalanobis_squared,registration_weight\n";
 
 // "bad fitness (rms 1.7 m)": the cause and its numbers, for scans.csv.
 std::string Reason(const mapping::RegistrationResult &r) {
@@ -46,7 +45,7 @@ nlohmann::json MapRunSummary(const std::string &dataset_name,
     return {{"dataset", dataset_name},
             {"prior", mapping::ToString(config.prior)},
             {"mask", config.use_mask},
-            {"refinement", mapping::ToString(config.mapper.refinement)},
+            {"smoother_lag_s", config.mapper.smoother.lag_s},
             {"method", mapping::ToString(config.mapper.method)},
             {"stopped_early", stopped.empty() ? nlohmann::json() : nlohmann::json(stopped)}};
 }
@@ -64,19 +63,13 @@ Eigen::Matrix3Xd MapOutputs::MapPoints() const {
 void MapOutputs::Add(const frontend::FrontEndResult &result) {
     const mapping::RegistrationResult &r = result.registration;
     const frontend::FrontEndTimes &t = result.times;
-    const Eigen::Matrix3Xd &added = r.map_points_added_world;
     for (const mapping::VoxelKey &key : r.map_cells_dropped) {
         const auto it = map_points_world_.find(key);
         if (it == map_points_world_.end()) continue;
         map_point_count_ -= it->second.size();
         map_points_world_.erase(it);
     }
-    for (Eigen::Index i = 0; i < added.cols(); ++i) {
-        map_points_world_[mapping::VoxelKeyOf(added.col(i), map_cell_m_)].push_back(added.col(i));
-        ++map_point_count_;
-    }
-    covariances_.Add(result);
-    positions_.push_back(result.T_world_base.translation());
+    AddWritten(r.written);
     if (first_stamp_ns_ < 0) first_stamp_ns_ = result.stamp_ns;
     if (r.fallback()) {
         ++fallbacks_;
@@ -123,14 +116,25 @@ void MapOutputs::Add(const frontend::FrontEndResult &result) {
     }
     csv_ += std::string(odometry::ToString(yaw.status)) + ',' +
             std::to_string(r.mover_points_dropped()) + ',' + std::to_string(r.map_points_dropped);
-    const mapping::NoiseScales &scales = r.noise_scales;
-    std::snprintf(row, sizeof(row), ",%.4g,%.4g,%.4g,%.4g\n", scales.prior(0), scales.prior(1),
-                  scales.registration(0), scales.registration(1));
+    std::snprintf(row, sizeof(row), ",%.4g,%.4f\n", r.prior_mahalanobis_squared,
+                  r.registration_weight);
     csv_ += row;
-    noise_scales_ = scales;
     mover_points_dropped_ += r.mover_points_dropped();
     map_points_dropped_ += r.map_points_dropped;
     max_local_map_points_ = std::max(max_local_map_points_, r.local_map_points);
+}
+
+void MapOutputs::AddWritten(const std::vector<mapping::WrittenPose> &written) {
+    for (const mapping::WrittenPose &w : written) {
+        const Eigen::Matrix3Xd &added = w.map_points_added_world;
+        for (Eigen::Index i = 0; i < added.cols(); ++i) {
+            map_points_world_[mapping::VoxelKeyOf(added.col(i), map_cell_m_)].push_back(
+                added.col(i));
+            ++map_point_count_;
+        }
+        covariances_.Add(w);
+        positions_.push_back(w.T_world_base.translation());
+    }
 }
 
 void MapOutputs::Write(const std::string &out_dir, const Trajectory &trajectory) const {
@@ -161,11 +165,6 @@ nlohmann::json MapOutputs::Summary() const {
             {"velocity_prediction", CountsByKey(predictions_)},
             {"mover_points_dropped", mover_points_dropped_},
             {"map_points_dropped", map_points_dropped_},
-            {"noise_scales",
-             {{"prior_translation", noise_scales_.prior(0)},
-              {"prior_rotation", noise_scales_.prior(1)},
-              {"registration_translation", noise_scales_.registration(0)},
-              {"registration_rotation", noise_scales_.registration(1)}}},
             {"time_per_scan_ms",
              TimeStatistics(total == stage_ms_.end() ? std::vector<double>{} : total->second)},
             {"time_per_stage_ms", stages},

@@ -21,8 +21,11 @@ class MapOutputs {
     /// map_cell_m: the mapper's map.voxel_size_m (the cells it may empty).
     explicit MapOutputs(double map_cell_m = 1.0);
 
-    /// Records one accepted scan.
+    /// Records one accepted scan, and the poses written with it.
     void Add(const frontend::FrontEndResult &result);
+    /// Records written poses (the map's points, covariance.csv, map.png's track): Add's, and the
+    /// ones the end of the drive writes (the front end's Finish).
+    void AddWritten(const std::vector<mapping::WrittenPose> &written);
 
     /// Writes trajectory.tum, the map files, scans.csv and covariance.csv into out_dir.
     /// map.pcd holds the points in the order the mapper added them.
@@ -53,7 +56,6 @@ class MapOutputs {
     std::map<odometry::PredictionUse, int> predictions_;  ///< scans by the held RANSAC's use
     int fallbacks_ = 0, unmasked_ = 0, scans_ = 0;
     long long mover_points_dropped_ = 0, map_points_dropped_ = 0;
-    mapping::NoiseScales noise_scales_;  ///< after the last scan
     /// Fallbacks per kYoungMapS-long interval since the first scan (when they happen in a run).
     std::vector<int> fallbacks_by_time_;
     odometry::YawCalibrationStep yaw_calibration_;  ///< the last scan's (online s_x)

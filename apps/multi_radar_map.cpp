@@ -42,10 +42,14 @@ void WriteCalibratedMounts(const std::string &out_dir, const io::DatasetConfig &
                            const odometry::PlanarTwistFilter &filter) {
     io::WriteFileAtomically(out_dir + "/mounts.yaml", [&](std::ostream &os) {
         os.precision(10);
+        const bool folder = dataset.reader == io::ReaderKind::kFolder;
         os << "# The radars' mounts as calibrated by this run (the published yaw plus the "
               "estimated "
-              "offset,\n# 1-sigma in the comment): paste into the dataset description's radars: "
-              "list.\nradars:\n";
+              "offset,\n# 1-sigma in the comment): "
+           << (folder ? "paste into the dataset description's radars: list."
+                      : "the data set's own reader takes its published mounts (each run\n# "
+                        "calibrates again); a folder description of the radars takes these.")
+           << "\nradars:\n";
         for (std::size_t k = 0; k < dataset.radars.size(); ++k) {
             const io::RadarStream &radar = dataset.radars[k];
             const Eigen::Isometry3d T = filter.T_base_radar(k);
@@ -53,10 +57,11 @@ void WriteCalibratedMounts(const std::string &out_dir, const io::DatasetConfig &
             const Eigen::Vector3d t = T.translation();
             os << "  - name: " << radar.name << "  # yaw offset "
                << RadToDeg(filter.mount_yaw_offset_rad(k)) << " +- "
-               << RadToDeg(filter.mount_yaw_sigma_rad(k)) << " deg\n"
-               << "    scans_dir: " << radar.scans_dir << "\n"
-               << "    timestamps_file: " << radar.timestamps_file << "\n"
-               << "    T_base_radar: {translation_m: [" << t.x() << ", " << t.y() << ", " << t.z()
+               << RadToDeg(filter.mount_yaw_sigma_rad(k)) << " deg\n";
+            if (!radar.scans_dir.empty())  // a folder's radar (the data sets' own: no files)
+                os << "    scans_dir: " << radar.scans_dir << "\n"
+                   << "    timestamps_file: " << radar.timestamps_file << "\n";
+            os << "    T_base_radar: {translation_m: [" << t.x() << ", " << t.y() << ", " << t.z()
                << "], rotation_rpy_deg: [" << RadToDeg(rpy.x()) << ", " << RadToDeg(rpy.y()) << ", "
                << RadToDeg(rpy.z()) << "]}\n";
         }
@@ -117,6 +122,7 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
     skips.PrintSummary();
     guard.ThrowIfNoScanUsed(sweeps, reader->source());
 
+    outputs.AddWritten(front_end.Finish());  // the sweeps still in the smoother
     outputs.Write(out_dir, front_end.trajectory());
     WriteCalibratedMounts(out_dir, dataset, front_end.twist_filter());
     nlohmann::json radars = nlohmann::json::array();

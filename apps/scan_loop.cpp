@@ -87,14 +87,18 @@ nlohmann::json ReportRadarsUsed(const io::DatasetConfig &dataset, const std::str
     std::string names;
     for (const io::RadarStream &radar : dataset.radars)
         names += (names.empty() ? "" : ", ") + radar.name;
+    // A folder's one radar is `folder:`; a data set's own reader's the first of its radars.
+    const bool folder = dataset.reader == io::ReaderKind::kFolder;
+    const std::string used = folder ? dataset.folder.scans_dir : dataset.radars.front().name;
     std::fprintf(stderr,
-                 "%s: warning: %s: key 'radars' lists %zu radars (%s); dorado %s reads only the "
-                 "`folder:` + `extrinsics:` radar (%s): the others are not used (--radars NAME "
-                 "picks another; every radar: dorado map --radars all, dorado twist)\n",
+                 "%s: warning: %s: %zu radars (%s); dorado %s reads only the %s radar (%s): the "
+                 "others are not used (--radars NAME picks another; every radar: dorado map "
+                 "--radars all, dorado twist)\n",
                  command.c_str(), DatasetFile(dataset, arg).c_str(), dataset.radars.size(),
-                 names.c_str(), command.c_str(), dataset.folder.scans_dir.c_str());
+                 names.c_str(), command.c_str(), folder ? "`folder:` + `extrinsics:`" : "first",
+                 used.c_str());
     return {{"radars_listed", dataset.radars.size()},
-            {"radars_used", nlohmann::json::array({dataset.folder.scans_dir})}};
+            {"radars_used", nlohmann::json::array({used})}};
 }
 
 io::DatasetConfig SelectRadar(const io::DatasetConfig &dataset, const std::string &choice) {

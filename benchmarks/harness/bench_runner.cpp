@@ -14,13 +14,13 @@
 #include <system_error>
 #include <thread>
 
+#include "dorado/core/time.hpp"
+
 namespace dorado::apps {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 std::string TempDir(const BenchJob &job) {
     return job.out_dir + ".tmp";

@@ -14,14 +14,6 @@ mapping::PriorKind ParsePriorKindKey(const std::string &text, const std::string 
     }
 }
 
-mapping::Refinement ParseRefinementKey(const std::string &text, const std::string &what) {
-    try {
-        return mapping::ParseRefinement(text);
-    } catch (const std::invalid_argument &e) {
-        throw io::ConfigError(what + ": " + e.what());
-    }
-}
-
 MapCommandConfig LoadMapConfig(const std::string &yaml_path) {
     MapCommandConfig config;
     FieldReader reader(io::YamlSection(io::LoadYamlFile(yaml_path), yaml_path));

@@ -31,14 +31,6 @@ odometry::DopplerOdometryConfig OdometryConfigFor(const FrontEndConfig &config,
     return odometry;
 }
 
-// The window smoother's kinematic factor is the paper's constraint: none on an unconstrained
-// platform.
-mapping::MapperConfig MapperConfigFor(mapping::MapperConfig mapper,
-                                      const VehicleGeometry &geometry) {
-    if (geometry.model == VehicleModel::kUnconstrained) mapper.window.use_kinematic_model = false;
-    return mapper;
-}
-
 void FrontEndConfig::Validate() const {
     odometry.Validate();
     if (run_mapper) {

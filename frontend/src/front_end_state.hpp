@@ -18,9 +18,6 @@ namespace dorado::frontend {
 /// std::invalid_argument for the doppler prior on an unconstrained platform.
 [[nodiscard]] odometry::DopplerOdometryConfig OdometryConfigFor(const FrontEndConfig &config,
                                                                 const VehicleGeometry &geometry);
-/// The mapper's config on this platform (front_end_config.cpp).
-[[nodiscard]] mapping::MapperConfig MapperConfigFor(mapping::MapperConfig mapper,
-                                                    const VehicleGeometry &geometry);
 
 /// The prior's twist: the odometry's, as integrated (motion_prior_step.cpp).
 [[nodiscard]] Twist PriorTwist(const odometry::OdometryStep &step);
@@ -43,9 +40,6 @@ struct RadarFrontEnd::State {
     std::optional<mapping::RadarMapper> mapper;
     ImuWindow imu;
     GyroBiasEstimator gyro_bias;  // from the stationary scans, subtracted from every gyro rate
-    // The ground-plane attitude on the mapper's chain: the doppler prior's roll and pitch
-    // corrected by the scan's ground plane, as the odometry corrects its own (ground.enabled).
-    odometry::GroundAttitudeFilter prior_ground;
     // eq. (5)'s yaw lever from the map's registered yaw (odometry.online_calibration).
     std::optional<odometry::YawRateCalibrator> yaw_calibrator;
     Trajectory trajectory;
@@ -76,21 +70,22 @@ struct RadarFrontEnd::State {
     // radar_front_end.cpp
     /// The interval's mean gyro rate in the base frame, bias removed (NaN before a first scan).
     [[nodiscard]] Eigen::Vector3d MeanGyroBase(int64_t stamp_ns) const;
-    /// Steps 2-3: the prior, then the mapper's registration, refinement and map update (with the
-    /// static mask when use_mask, the gyro rate and the ground when the prior and the refinement
-    /// take them), then the yaw lever's calibration.
+    /// Steps 2-3: the prior, then the mapper's registration, smoothing and map update (with the
+    /// static mask when use_mask, the ground when the prior does not hold the attitude itself),
+    /// then the yaw lever's calibration.
     [[nodiscard]] MappedScan MapScan(const RadarScan &scan_radar,
                                      const odometry::OdometryStep &step,
                                      const mapping::PointMask &static_mask, bool use_mask,
-                                     bool twist_discontinuous,
-                                     const Eigen::Vector3d &gyro_base_radps);
+                                     bool twist_discontinuous);
     /// The registered pose's yaw handed to the calibrator; its new estimate drives the next
     /// scans (odometry.SetYawLever).
     [[nodiscard]] odometry::YawCalibrationStep CalibrateYawLever(
         const odometry::OdometryStep &step, const mapping::RegistrationResult &registration);
-    /// The scan's pose becomes the previous one (the next prior's start).
+    /// The scan's pose becomes the previous one (the next prior's start); the written poses
+    /// join the trajectory.
     void Advance(int64_t stamp_ns, const odometry::OdometryStep &step,
-                 const Eigen::Isometry3d &T_world_base, bool twist_discontinuous);
+                 const Eigen::Isometry3d &T_world_base, bool twist_discontinuous,
+                 const std::vector<mapping::WrittenPose> *written);
 };
 
 }  // namespace dorado::frontend

@@ -51,7 +51,7 @@ struct MultiRadarFrontEnd::State {
           geometry(g),
           estimator(config.odometry.ego_velocity),
           filter(filter_config, g.velocity_prior, T_base_radars),
-          mapper(config.mapper, Extrinsics{}, g) {
+          mapper(config.mapper, Extrinsics{}) {
         if (T_base_radars.empty()) throw std::invalid_argument("multi-radar front end: no radar");
         if (config.odometry.ego_velocity.sensor.geometry == ScanGeometry::k3d)
             throw std::invalid_argument(
@@ -227,7 +227,8 @@ FrontEndResult MultiRadarFrontEnd::State::CloseSweep(int64_t stamp_ns) {
     result.times.total_ms = MillisecondsSince(t_start) + sweep_doppler_ms;
     sweep_doppler_ms = 0.0;
 
-    trajectory.Append(stamp_ns, result.T_world_base);
+    for (const mapping::WrittenPose &written : result.registration.written)
+        trajectory.Append(written.stamp_ns, written.T_world_base);
     T_world_base_prev2 = T_world_base_prev;
     T_world_base_prev = result.T_world_base;
     last_dt_s = result.dt_s;
@@ -290,6 +291,13 @@ RadarScanStep MultiRadarFrontEnd::Process(std::size_t radar, const RadarScan &sc
         step.sweep = s.CloseSweep(scan_radar.stamp_ns);
     }
     return step;
+}
+
+std::vector<mapping::WrittenPose> MultiRadarFrontEnd::Finish() {
+    std::vector<mapping::WrittenPose> written = state_->mapper.Finish();
+    for (const mapping::WrittenPose &pose : written)
+        state_->trajectory.Append(pose.stamp_ns, pose.T_world_base);
+    return written;
 }
 
 const Trajectory &MultiRadarFrontEnd::trajectory() const {

@@ -48,9 +48,8 @@ RadarFrontEnd::State::State(FrontEndConfig c, const Extrinsics &e, const Vehicle
     : config((c.Validate(), std::move(c))),
       extrinsics(e),
       geometry(g),
-      odometry(OdometryConfigFor(config, g), e, g),
-      prior_ground(odometry.ground_config()) {
-    if (config.run_mapper) mapper.emplace(MapperConfigFor(config.mapper, g), e, g);
+      odometry(OdometryConfigFor(config, g), e, g) {
+    if (config.run_mapper) mapper.emplace(config.mapper, e);
     if (config.run_mapper && config.odometry.online_calibration.enabled &&
         g.model != VehicleModel::kUnconstrained)
         yaw_calibrator.emplace(config.odometry.online_calibration,
@@ -66,31 +65,15 @@ Eigen::Vector3d RadarFrontEnd::State::MeanGyroBase(int64_t stamp_ns) const {
 MappedScan RadarFrontEnd::State::MapScan(const RadarScan &scan_radar,
                                          const odometry::OdometryStep &step,
                                          const mapping::PointMask &static_mask, bool use_mask,
-                                         bool twist_discontinuous,
-                                         const Eigen::Vector3d &gyro_base_radps) {
+                                         bool twist_discontinuous) {
     MappedScan out;
     const auto t_prior = Clock::now();
     const double dt_s = scans_since_reset == 0 ? mapping::kFirstScanIntervalS : step.dt_s;
     out.prior = BuildPrior(step, scan_radar.stamp_ns, dt_s, twist_discontinuous);
-    // The ground (ground.enabled) reaches the radar-only map once: as a residual on the refined
-    // poses' absolute roll and pitch when the mapper's refinement takes one (ceres, filter; 3-D;
-    // priors without the gyro), otherwise in the doppler prior (below). Not both: the prior's
-    // roll/pitch and the residual would count the same plane twice.
+    // The ground (ground.enabled) holds the map's roll and pitch in the mapper's smoother (3-D;
+    // not with the gyro's priors, whose attitude the IMU holds).
     const bool ground_factor = config.odometry.ground.enabled && !step.planar &&
-                               !mapping::NeedsImu(config.prior) &&
-                               mapping::RefinesWithCeres(config.mapper.refinement);
-    if (config.odometry.ground.enabled && !ground_factor &&
-        out.prior.used == mapping::PriorKind::kDoppler) {
-        // The twist carries no attitude correction: the prior's roll and pitch get the ground's,
-        // filtered on the mapper's own chain (the first scan initialises them).
-        prior_ground.Predict(step.covariance_used.bottomRightCorner<3, 3>(), step.dt_s);
-        Eigen::Isometry3d &T_world_base = out.prior.prior.T_world_base;
-        T_world_base.linear() =
-            prior_ground
-                .Update(step.ground.fit, step.v_base_used_mps.norm() * step.dt_s,
-                        T_world_base.linear())
-                .R_world_base;
-    }
+                               !mapping::NeedsImu(config.prior);
     out.prior_ms = MillisecondsSince(t_prior);
 
     if (step.planar && !mapper->planar()) mapper->SetPlanar();  // a 2D radar
@@ -102,9 +85,6 @@ MappedScan RadarFrontEnd::State::MapScan(const RadarScan &scan_radar,
         input.moving_mask = SeenMoving(scan_radar, step.ego, config.odometry.ego_velocity.sensor,
                                        config.mapper.movers.min_radial_speed_mps);
     }
-    // The gyro feeds the window smoother when the prior is an IMU one.
-    if (mapping::NeedsImu(config.prior) && gyro_base_radps.allFinite())
-        input.gyro_base_radps = gyro_base_radps;
     if (ground_factor && step.ground.fit.valid)
         input.ground_base = GroundUpFromFit(step.ground.fit, odometry.ground_config());
     out.registration = mapper->Register(scan_radar, input);
@@ -118,8 +98,12 @@ odometry::YawCalibrationStep RadarFrontEnd::State::CalibrateYawLever(
     // A window needs every scan's own Doppler yaw (eq. 5 on this scan's velocity, no fallback)
     // and every pose registered, with the yaw among the directions the map observes.
     const bool own_twist = step.ego.valid() && !step.used_fallback && !step.planar;
-    const bool yaw_observed = reg.first_scan || (reg.registered.valid && !reg.fallback() &&
-                                                 reg.registered.strong_projector(5, 5) > 0.5);
+    // (A registration the smoother down-weighted disagrees with the prediction: not a measurement
+    // of the lever.)
+    const bool yaw_observed =
+        reg.first_scan || (reg.registered.valid && !reg.fallback() &&
+                           reg.registration_weight >= 1.0 &&
+                           reg.registered.strong_projector(5, 5) > 0.5);
     const Eigen::Matrix3d R_world_base =
         reg.registered.valid ? reg.registered.T_world_base.linear() : reg.T_world_base.linear();
     const double v_sy =
@@ -133,8 +117,13 @@ odometry::YawCalibrationStep RadarFrontEnd::State::CalibrateYawLever(
 
 void RadarFrontEnd::State::Advance(int64_t stamp_ns, const odometry::OdometryStep &step,
                                    const Eigen::Isometry3d &T_world_base,
-                                   bool twist_discontinuous) {
-    trajectory.Append(stamp_ns, T_world_base);
+                                   bool twist_discontinuous,
+                                   const std::vector<mapping::WrittenPose> *written) {
+    if (written == nullptr)
+        trajectory.Append(stamp_ns, T_world_base);
+    else
+        for (const mapping::WrittenPose &pose : *written)
+            trajectory.Append(pose.stamp_ns, pose.T_world_base);
     T_world_base_prev2 = T_world_base_prev;
     T_world_base_prev = T_world_base;
     last_dt_s = scans_since_reset == 0 ? 0.0 : step.dt_s;
@@ -193,7 +182,7 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
         const bool use_mask =
             s.config.use_mask && step.ego.valid() && !result.doppler_twist_discontinuous;
         MappedScan mapped = s.MapScan(scan_radar, step, result.static_mask, use_mask,
-                                      result.doppler_twist_discontinuous, result.gyro_base_radps);
+                                      result.doppler_twist_discontinuous);
         result.prior = mapped.prior.prior;
         result.prior_requested = mapped.prior.requested;
         result.prior_used = mapped.prior.used;
@@ -209,17 +198,26 @@ FrontEndResult RadarFrontEnd::Process(const RadarScan &scan_radar) {
         result.T_world_base = step.T_world_base;
     }
     result.times.total_ms = MillisecondsSince(t_start);
-    s.Advance(scan_radar.stamp_ns, step, result.T_world_base, result.doppler_twist_discontinuous);
+    s.Advance(scan_radar.stamp_ns, step, result.T_world_base, result.doppler_twist_discontinuous,
+              s.mapper ? &result.registration.written : nullptr);
     return result;
 }
 
-void RadarFrontEnd::Reset(const Eigen::Isometry3d &T_world_base) {
+std::vector<mapping::WrittenPose> RadarFrontEnd::Finish() {
     State &s = *state_;
+    if (!s.mapper) return {};
+    std::vector<mapping::WrittenPose> written = s.mapper->Finish();
+    for (const mapping::WrittenPose &pose : written)
+        s.trajectory.Append(pose.stamp_ns, pose.T_world_base);
+    return written;
+}
+
+std::vector<mapping::WrittenPose> RadarFrontEnd::Reset(const Eigen::Isometry3d &T_world_base) {
+    State &s = *state_;
+    std::vector<mapping::WrittenPose> written = Finish();
     s.odometry.Restart(T_world_base);
-    s.prior_ground.Reset();
     if (s.yaw_calibrator) s.yaw_calibrator->BreakWindow();
-    if (s.mapper)
-        s.mapper.emplace(MapperConfigFor(s.config.mapper, s.geometry), s.extrinsics, s.geometry);
+    if (s.mapper) s.mapper.emplace(s.config.mapper, s.extrinsics);
     s.T_world_base_initial = T_world_base;
     s.scans_since_reset = 0;
     s.last_dt_s = 0.0;
@@ -228,6 +226,7 @@ void RadarFrontEnd::Reset(const Eigen::Isometry3d &T_world_base) {
     s.last_plausible_twist.reset();
     s.since_plausible_s = 0.0;
     // The trajectory keeps its poses: stamps stay increasing across a reset.
+    return written;
 }
 
 const Trajectory &RadarFrontEnd::trajectory() const {

@@ -20,9 +20,9 @@ std::unique_ptr<DatasetReader> OpenScanReader(const DatasetConfig &config) {
         case ReaderKind::kFolder:
             return OpenFolderReader(config);
         case ReaderKind::kRadarScenes:
-            return OpenRadarScenesReader(config);
+            return OpenRadarScenesReader(config, {OneRadarScenesSensor(config)});
         case ReaderKind::kNuScenes:
-            return OpenNuScenesReader(config);
+            return OpenNuScenesReader(config, {OneNuScenesChannel(config)});
     }
     throw DatasetError(config.config_path + ": unknown reader");
 }

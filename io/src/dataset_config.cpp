@@ -160,7 +160,10 @@ void ReadRadars(const YAML::Node &root, FieldReader &in, const std::string &yaml
                 const std::string &base_dir, DatasetConfig &config) {
     const YAML::Node list = root["radars"];
     if (!list.IsSequence()) in.Fail("radars", "must be a list of radars");
-    if (config.reader != ReaderKind::kFolder) in.Fail("radars", "needs reader: folder");
+    if (config.reader != ReaderKind::kFolder)
+        in.Fail("radars",
+                "needs reader: folder (readers radarscenes and nuscenes list their "
+                "radars from the data set's own files)");
     for (std::size_t k = 0; k < list.size(); ++k) {
         const std::string where = "radars[" + std::to_string(k) + "]";
         FieldReader item(YamlSection(list[k], yaml_path, where), base_dir);
@@ -175,6 +178,15 @@ void ReadRadars(const YAML::Node &root, FieldReader &in, const std::string &yaml
             config.inputs.push_back({where + "." + path.key, path.written, path.resolved});
         config.radars.push_back(radar);
     }
+}
+
+// --scene / --sequence over the description's scene or sequence (dataset_formats.cpp), a sequence
+// looked for beside radarscenes.sequence_dir as --data or data_dir: resolved it. The chosen folder
+// replaces the description's among the inputs RequireInputs checks.
+void ApplyChoice(DatasetConfig &config, const DatasetChoice &choice) {
+    ApplyDatasetChoice(config, choice);
+    for (DatasetInput &input : config.inputs)
+        if (input.key == "radarscenes.sequence_dir") input.path = config.radarscenes.sequence_dir;
 }
 
 // `reader:` absent: the default (rosbag) only for a description with a `rosbag:` section;
@@ -249,12 +261,16 @@ DatasetConfig ForRadar(const DatasetConfig &config, std::size_t index) {
     one.name = config.name + "/" + radar.name;
     one.folder.scans_dir = radar.scans_dir;
     one.folder.timestamps_file = radar.timestamps_file;
+    if (config.reader == ReaderKind::kRadarScenes)
+        one.radarscenes.sensor_id = radar.radarscenes_sensor_id;
+    if (config.reader == ReaderKind::kNuScenes) one.nuscenes.channel = radar.nuscenes_channel;
     one.extrinsics.T_base_radar = radar.T_base_radar;
     one.radars.clear();
     return one;
 }
 
-DatasetConfig LoadDatasetConfig(const std::string &yaml_path, const std::string &data_dir) {
+DatasetConfig LoadDatasetConfig(const std::string &yaml_path, const std::string &data_dir,
+                                const DatasetChoice &choice) {
     const std::string description_dir = fs::absolute(yaml_path).parent_path().string();
     std::string data_option;
     if (!data_dir.empty()) {
@@ -281,8 +297,9 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path, const std::string 
         if (path.key != "data_dir")
             config.inputs.push_back({path.key, path.written, path.resolved});
     if (has_radars) ReadRadars(root, in, yaml_path, config.path_base_dir, config);
+    ApplyChoice(config, choice);  // over the paths as resolved
     CheckFields(in, config);
-    if (!in.Has("extrinsics.T_base_radar")) ApplyFormatMount(config);  // the data set's own
+    ApplyFormatLayout(config, in.Has("extrinsics.T_base_radar"));  // the data set's own radars
     return config;
 }
 
@@ -316,11 +333,12 @@ void RequireInputs(const DatasetConfig &config) {
     }
 }
 
-DatasetConfig ResolveDataset(const std::string &argument, const std::string &data_dir) {
+DatasetConfig ResolveDataset(const std::string &argument, const std::string &data_dir,
+                             const DatasetChoice &choice) {
     const fs::path path(argument);
     std::error_code ec;
     const auto description = [&](const std::string &yaml) {
-        DatasetConfig config = LoadDatasetConfig(yaml, data_dir);
+        DatasetConfig config = LoadDatasetConfig(yaml, data_dir, choice);
         RequireInputs(config);
         return config;
     };
@@ -351,6 +369,7 @@ DatasetConfig ResolveDataset(const std::string &argument, const std::string &dat
         config.name = (path.has_filename() ? path : path.parent_path()).stem().string();
         config.reader = ReaderKind::kRosbag;
         config.rosbag.path = argument;
+        ApplyDatasetChoice(config, choice);  // refused: a recording has no scenes
         return config;
     }
     throw ConfigError(argument +
@@ -362,7 +381,7 @@ std::string DatasetConfigToYaml(const DatasetConfig &config) {
     DatasetConfig copy = config;
     FieldWriter writer;
     VisitFields(copy, WrittenFields{copy.reader, writer});
-    if (!copy.radars.empty()) {
+    if (!copy.radars.empty() && copy.reader == ReaderKind::kFolder) {  // the others': their files
         std::vector<std::string> items;
         for (RadarStream &radar : copy.radars) {
             FieldWriter item;

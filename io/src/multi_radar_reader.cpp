@@ -1,10 +1,12 @@
-// OpenRadars: the `radars:` list's scans as one stream in time order.
+// OpenRadars: the `radars:` list's scans as one stream in time order: a folder reader per radar,
+// merged here; the data sets' own readers (radarscenes, nuscenes) read every radar from one index.
 #include <cmath>
 #include <cstdio>
 #include <limits>
 
 #include "dorado/core/time.hpp"
 #include "dorado/io/dataset.hpp"
+#include "readers.hpp"
 
 namespace dorado::io {
 namespace {
@@ -96,10 +98,29 @@ class MultiRadarReader final : public DatasetReader {
     std::vector<PendingStream> streams_;
 };
 
+// The data set's own reader over every radar of the list (one clock: no time-base check).
+std::unique_ptr<DatasetReader> OpenFormatRadars(const DatasetConfig &config) {
+    std::unique_ptr<DatasetReader> reader;
+    if (config.reader == ReaderKind::kRadarScenes) {
+        std::vector<int> sensor_ids;
+        for (const RadarStream &radar : config.radars)
+            sensor_ids.push_back(radar.radarscenes_sensor_id);
+        reader = OpenRadarScenesReader(config, sensor_ids);
+    } else {
+        std::vector<std::string> channels;
+        for (const RadarStream &radar : config.radars) channels.push_back(radar.nuscenes_channel);
+        reader = OpenNuScenesReader(config, channels);
+    }
+    if (config.imu.path.empty()) return reader;
+    return WithImuFile(std::move(reader), config.imu);
+}
+
 }  // namespace
 
 std::unique_ptr<DatasetReader> OpenRadars(const DatasetConfig &config) {
     if (config.radars.size() < 2) return OpenDataset(config);
+    if (config.reader == ReaderKind::kRadarScenes || config.reader == ReaderKind::kNuScenes)
+        return OpenFormatRadars(config);
     return std::make_unique<MultiRadarReader>(config);
 }
 

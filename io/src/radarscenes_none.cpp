@@ -17,7 +17,8 @@ namespace {
 
 }  // namespace
 
-std::unique_ptr<DatasetReader> OpenRadarScenesReader(const DatasetConfig &config) {
+std::unique_ptr<DatasetReader> OpenRadarScenesReader(const DatasetConfig &config,
+                                                     const std::vector<int> &) {
     Refuse(config);
 }
 
@@ -26,6 +27,10 @@ Trajectory LoadRadarScenesOdometry(const DatasetConfig &config) {
 }
 
 Eigen::Isometry3d RadarScenesMount(const DatasetConfig &config) {
+    Refuse(config);
+}
+
+std::vector<RadarStream> RadarScenesRadars(const DatasetConfig &config) {
     Refuse(config);
 }
 

@@ -7,8 +7,8 @@
 // - scenes.json: `scenes`, keyed by timestamp, each with sensor_id and radar_indices [first, end)
 //   into radar_data (one scene = one measurement of one radar);
 // - sensors.json: `radar_<id>` with the mount x, y [m], yaw [rad] in the car frame (rear axle).
-// A scan is one scene of the configured sensor; its rows are checked to be that sensor's at that
-// timestamp.
+// A scan is one scene of one of the sensors read (scenes of several sensors merged in time order);
+// its rows are checked to be that sensor's at that timestamp.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -40,21 +40,36 @@ nlohmann::json ReadJson(const std::string &path) {
 struct Scene {
     int64_t timestamp_us = 0;
     std::size_t first_row = 0, end_row = 0;
+    std::size_t radar = 0;  ///< index into the sensor ids read
 };
 
-// The scenes of one sensor from scenes.json, in time order.
-std::vector<Scene> SensorScenes(const std::string &path, int sensor_id) {
+std::string SensorList(std::vector<int> ids) {
+    std::sort(ids.begin(), ids.end());
+    std::string list;
+    for (int id : ids) list += (list.empty() ? "" : ", ") + std::to_string(id);
+    return list.empty() ? "none" : list;
+}
+
+// What scenes.json holds of the sensors asked for.
+struct SequenceScenes {
+    std::vector<Scene> scenes;  ///< theirs, in time order (equal times: by index in the list)
+    std::vector<int> sensors;   ///< every sensor with a scene in the sequence
+};
+
+SequenceScenes ReadScenes(const std::string &path, const std::vector<int> &sensor_ids) {
     const nlohmann::json json = ReadJson(path);
     if (!json.contains("scenes") || !json["scenes"].is_object())
         throw DatasetError(path + ": no 'scenes' object");
-    std::vector<Scene> scenes;
-    std::vector<int> sensors;
+    SequenceScenes read;
+    std::vector<Scene> &scenes = read.scenes;
+    std::vector<int> &sensors = read.sensors;
     for (const auto &[key, scene] : json["scenes"].items()) {
         try {
             const int id = scene.at("sensor_id").get<int>();
             if (std::find(sensors.begin(), sensors.end(), id) == sensors.end())
                 sensors.push_back(id);
-            if (id != sensor_id) continue;
+            const auto radar = std::find(sensor_ids.begin(), sensor_ids.end(), id);
+            if (radar == sensor_ids.end()) continue;
             const auto &indices = scene.at("radar_indices");
             if (!indices.is_array() || indices.size() != 2)
                 throw DatasetError(path + ": scene " + key + ": radar_indices is not [first, end]");
@@ -62,6 +77,7 @@ std::vector<Scene> SensorScenes(const std::string &path, int sensor_id) {
             s.timestamp_us = std::stoll(key);
             s.first_row = indices[0].get<std::size_t>();
             s.end_row = indices[1].get<std::size_t>();
+            s.radar = static_cast<std::size_t>(radar - sensor_ids.begin());
             scenes.push_back(s);
         } catch (const nlohmann::json::exception &e) {
             throw DatasetError(path + ": scene " + key + ": " + e.what());
@@ -69,38 +85,62 @@ std::vector<Scene> SensorScenes(const std::string &path, int sensor_id) {
             throw DatasetError(path + ": scene key '" + key + "' is not a timestamp");
         }
     }
-    if (scenes.empty()) {
-        std::sort(sensors.begin(), sensors.end());
-        std::string list;
-        for (int id : sensors) list += (list.empty() ? "" : ", ") + std::to_string(id);
-        throw DatasetError(path + ": no scene of sensor_id " + std::to_string(sensor_id) +
-                           " (the sequence has sensors " + (list.empty() ? "none" : list) + ")");
+    for (int id : sensor_ids) {
+        if (std::find(sensors.begin(), sensors.end(), id) == sensors.end())
+            throw DatasetError(path + ": no scene of sensor_id " + std::to_string(id) +
+                               " (the sequence has sensors " + SensorList(sensors) + ")");
     }
-    std::sort(scenes.begin(), scenes.end(),
-              [](const Scene &a, const Scene &b) { return a.timestamp_us < b.timestamp_us; });
-    return scenes;
+    std::sort(scenes.begin(), scenes.end(), [](const Scene &a, const Scene &b) {
+        return a.timestamp_us != b.timestamp_us ? a.timestamp_us < b.timestamp_us
+                                                : a.radar < b.radar;
+    });
+    return read;
 }
 
-// The sequence folder without "." / ".." parts and without a trailing separator, so that its
-// parent_path() is the folder above it (".../sequence_105/" names the same folder as
-// ".../sequence_105"; a DatasetConfig built in code is not normalised by the YAML loader).
-fs::path SequenceDir(const DatasetConfig &config) {
-    fs::path dir = fs::path(config.radarscenes.sequence_dir).lexically_normal();
-    while (!dir.has_filename() && dir.has_relative_path()) dir = dir.parent_path();
-    return dir;
+SequenceScenes ReadScenes(const DatasetConfig &config, const std::vector<int> &sensor_ids) {
+    return ReadScenes((RadarScenesSequenceDir(config) / "scenes.json").string(), sensor_ids);
+}
+
+// sensors.json: the data set keeps it next to the sequence folders; a copy inside one also works.
+fs::path SensorsJson(const DatasetConfig &config) {
+    const fs::path dir = RadarScenesSequenceDir(config);
+    fs::path path = dir / "sensors.json";
+    if (!fs::exists(path)) path = dir.parent_path() / "sensors.json";
+    if (!fs::exists(path))
+        throw DatasetError((dir / "sensors.json").string() + ": missing (and none in " +
+                           dir.parent_path().string() +
+                           "): give the mount as extrinsics.T_base_radar");
+    return path;
+}
+
+// T_base_radar of radar_<id> in sensors.json: x, y [m], yaw [rad] in the car frame.
+Eigen::Isometry3d SensorMount(const fs::path &path, const nlohmann::json &json, int sensor_id) {
+    const std::string name = "radar_" + std::to_string(sensor_id);
+    Eigen::Isometry3d T_base_radar = Eigen::Isometry3d::Identity();
+    try {
+        const auto &mount = json.at(name);
+        T_base_radar.translation() << mount.at("x").get<double>(), mount.at("y").get<double>(),
+            0.0;  // no height in the data set: the radar's plane is the car's
+        T_base_radar.linear() =
+            Eigen::AngleAxisd(mount.at("yaw").get<double>(), Eigen::Vector3d::UnitZ())
+                .toRotationMatrix();
+    } catch (const nlohmann::json::exception &e) {
+        throw DatasetError(path.string() + ": " + name + ": " + e.what());
+    }
+    return T_base_radar;
 }
 
 std::string H5Path(const DatasetConfig &config) {
-    return (SequenceDir(config) / "radar_data.h5").string();
+    return (RadarScenesSequenceDir(config) / "radar_data.h5").string();
 }
 
 class RadarScenesReader final : public DatasetReader {
   public:
-    explicit RadarScenesReader(const DatasetConfig &config)
-        : source_(H5Path(config) + " (sensor_id " + std::to_string(config.radarscenes.sensor_id) +
-                  ")"),
-          sensor_id_(config.radarscenes.sensor_id),
-          scenes_(SensorScenes((SequenceDir(config) / "scenes.json").string(), sensor_id_)),
+    RadarScenesReader(const DatasetConfig &config, const std::vector<int> &sensor_ids)
+        : source_(H5Path(config) + " (sensor_id " + SensorList(sensor_ids) + ")"),
+          sensor_ids_(sensor_ids),
+          scenes_(ReadScenes(config, sensor_ids).scenes),
+          scans_of_radar_(sensor_ids.size(), 0),
           file_(OpenH5File(H5Path(config))),
           table_(file_, H5Path(config), "radar_data",
                  {{"timestamp", ColumnKind::kInteger},
@@ -113,8 +153,9 @@ class RadarScenesReader final : public DatasetReader {
     bool Next(DatasetEvent &event) override {
         if (next_ >= scenes_.size()) return false;
         event = DatasetEvent{};
-        event.scan_index = next_;
         const Scene &scene = scenes_[next_++];
+        event.radar = scene.radar;
+        event.scan_index = scans_of_radar_[scene.radar]++;
         event.stamp_ns = scene.timestamp_us * kNanosPerMicro;
         std::string problem;
         std::vector<H5Value> rows;
@@ -124,7 +165,7 @@ class RadarScenesReader final : public DatasetReader {
                       std::to_string(table_.rows()) + " rows";
         } else {
             rows = table_.Rows(scene.first_row, scene.end_row - scene.first_row);
-            problem = CheckRows(scene, rows);
+            problem = CheckRows(scene, sensor_ids_[scene.radar], rows);
         }
         if (!problem.empty()) {
             event.kind = DatasetEvent::Kind::kBadScan;
@@ -136,7 +177,7 @@ class RadarScenesReader final : public DatasetReader {
         event.kind = DatasetEvent::Kind::kRadarScan;
         event.scan = ToScan(rows);
         event.scan.stamp_ns = event.stamp_ns;
-        event.scan.frame_id = "radar_" + std::to_string(sensor_id_);
+        event.scan.frame_id = "radar_" + std::to_string(sensor_ids_[scene.radar]);
         event.removed_nonfinite_points = RemoveNonFinitePoints(event.scan);
         return true;
     }
@@ -148,15 +189,15 @@ class RadarScenesReader final : public DatasetReader {
     enum Column { kTimestamp, kSensor, kRange, kAzimuth, kRcs, kVr, kColumns };
 
     // Empty when rows [first, end) are all this sensor's at the scene's timestamp.
-    [[nodiscard]] std::string CheckRows(const Scene &scene,
-                                        const std::vector<H5Value> &rows) const {
+    [[nodiscard]] static std::string CheckRows(const Scene &scene, int sensor_id,
+                                               const std::vector<H5Value> &rows) {
         for (std::size_t r = 0; r < rows.size() / kColumns; ++r) {
             const int64_t stamp = rows[r * kColumns + kTimestamp].i;
             const int64_t sensor = rows[r * kColumns + kSensor].i;
-            if (stamp != scene.timestamp_us || sensor != sensor_id_)
+            if (stamp != scene.timestamp_us || sensor != sensor_id)
                 return "row " + std::to_string(scene.first_row + r) + " is sensor " +
                        std::to_string(sensor) + " at " + std::to_string(stamp) +
-                       ", not the scene's sensor " + std::to_string(sensor_id_);
+                       ", not the scene's sensor " + std::to_string(sensor_id);
         }
         return "";
     }
@@ -182,8 +223,9 @@ class RadarScenesReader final : public DatasetReader {
     }
 
     std::string source_;
-    int sensor_id_;
+    std::vector<int> sensor_ids_;
     std::vector<Scene> scenes_;
+    std::vector<std::size_t> scans_of_radar_;
     H5Id file_;
     H5Table table_;
     std::size_t next_ = 0;
@@ -191,8 +233,9 @@ class RadarScenesReader final : public DatasetReader {
 
 }  // namespace
 
-std::unique_ptr<DatasetReader> OpenRadarScenesReader(const DatasetConfig &config) {
-    return std::make_unique<RadarScenesReader>(config);
+std::unique_ptr<DatasetReader> OpenRadarScenesReader(const DatasetConfig &config,
+                                                     const std::vector<int> &sensor_ids) {
+    return std::make_unique<RadarScenesReader>(config, sensor_ids);
 }
 
 Trajectory LoadRadarScenesOdometry(const DatasetConfig &config) {
@@ -222,28 +265,27 @@ Trajectory LoadRadarScenesOdometry(const DatasetConfig &config) {
 }
 
 Eigen::Isometry3d RadarScenesMount(const DatasetConfig &config) {
-    // The data set keeps sensors.json next to the sequence folders; a copy inside one also works.
-    const fs::path dir = SequenceDir(config);
-    fs::path path = dir / "sensors.json";
-    if (!fs::exists(path)) path = dir.parent_path() / "sensors.json";
-    if (!fs::exists(path))
-        throw DatasetError((dir / "sensors.json").string() + ": missing (and none in " +
-                           dir.parent_path().string() +
-                           "): give the mount as extrinsics.T_base_radar");
+    const fs::path path = SensorsJson(config);
+    return SensorMount(path, ReadJson(path.string()), OneRadarScenesSensor(config));
+}
+
+std::vector<RadarStream> RadarScenesRadars(const DatasetConfig &config) {
+    const fs::path path = SensorsJson(config);
     const nlohmann::json json = ReadJson(path.string());
-    const std::string name = "radar_" + std::to_string(config.radarscenes.sensor_id);
-    Eigen::Isometry3d T_base_radar = Eigen::Isometry3d::Identity();
-    try {
-        const auto &mount = json.at(name);
-        T_base_radar.translation() << mount.at("x").get<double>(), mount.at("y").get<double>(),
-            0.0;  // no height in the data set: the radar's plane is the car's
-        T_base_radar.linear() =
-            Eigen::AngleAxisd(mount.at("yaw").get<double>(), Eigen::Vector3d::UnitZ())
-                .toRotationMatrix();
-    } catch (const nlohmann::json::exception &e) {
-        throw DatasetError(path.string() + ": " + name + ": " + e.what());
+    std::vector<int> present = ReadScenes(config, {}).sensors;
+    std::sort(present.begin(), present.end());
+    std::vector<RadarStream> radars;
+    for (const int id : present) {
+        RadarStream radar;
+        radar.name = "radar_" + std::to_string(id);
+        radar.radarscenes_sensor_id = id;
+        radar.T_base_radar = SensorMount(path, json, id);
+        radars.push_back(radar);
     }
-    return T_base_radar;
+    if (radars.empty())
+        throw DatasetError((RadarScenesSequenceDir(config) / "scenes.json").string() +
+                           ": no scene");
+    return radars;
 }
 
 }  // namespace dorado::io

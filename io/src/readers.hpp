@@ -1,6 +1,7 @@
 #pragma once
 // Private to dorado_io: the concrete readers behind OpenDataset.
 
+#include <filesystem>
 #include <memory>
 
 #include "dorado/io/dataset.hpp"
@@ -11,13 +12,29 @@ namespace dorado::io {
 [[nodiscard]] std::unique_ptr<DatasetReader> OpenBagReader(const DatasetConfig &config);
 [[nodiscard]] std::unique_ptr<DatasetReader> OpenFolderReader(const DatasetConfig &config);
 
-/// The data sets' own formats (dataset_config.hpp: RadarScenesSource, NuScenesSource).
-[[nodiscard]] std::unique_ptr<DatasetReader> OpenRadarScenesReader(const DatasetConfig &config);
-[[nodiscard]] std::unique_ptr<DatasetReader> OpenNuScenesReader(const DatasetConfig &config);
-/// T_base_radar as the data set publishes it (sensors.json; calibrated_sensor). Throws
-/// DatasetError.
+/// The data sets' own formats (dataset_config.hpp: RadarScenesSource, NuScenesSource): the scans of
+/// the radars given, merged in time order, event.radar the radar's index in the list and
+/// event.scan_index counting that radar's scans. Throws DatasetError.
+[[nodiscard]] std::unique_ptr<DatasetReader> OpenRadarScenesReader(
+    const DatasetConfig &config, const std::vector<int> &sensor_ids);
+[[nodiscard]] std::unique_ptr<DatasetReader> OpenNuScenesReader(
+    const DatasetConfig &config, const std::vector<std::string> &channels);
+/// The one radar a description reads when a command reads one: radarscenes.sensor_id /
+/// nuscenes.channel, or with every radar the first of `radars:`.
+[[nodiscard]] int OneRadarScenesSensor(const DatasetConfig &config);
+[[nodiscard]] std::string OneNuScenesChannel(const DatasetConfig &config);
+/// radarscenes.sequence_dir without "." / ".." parts and without a trailing separator, so that its
+/// parent_path() is the folder above it (a DatasetConfig built in code is not normalised).
+[[nodiscard]] std::filesystem::path RadarScenesSequenceDir(const DatasetConfig &config);
+/// T_base_radar of the one radar as the data set publishes it (sensors.json; calibrated_sensor).
+/// Throws DatasetError.
 [[nodiscard]] Eigen::Isometry3d RadarScenesMount(const DatasetConfig &config);
 [[nodiscard]] Eigen::Isometry3d NuScenesMount(const DatasetConfig &config);
+/// Every radar of the sequence (sensors.json's radar_<id> with scans in scenes.json, by id) or of
+/// the scene (its RADAR_* channels with sweeps, front first), each with its published mount.
+/// Throws DatasetError.
+[[nodiscard]] std::vector<RadarStream> RadarScenesRadars(const DatasetConfig &config);
+[[nodiscard]] std::vector<RadarStream> NuScenesRadars(const DatasetConfig &config);
 /// The data set's reference trajectory of the base (RadarScenes' odometry table; nuScenes' ego
 /// poses of the scene). Throws DatasetError.
 [[nodiscard]] Trajectory LoadRadarScenesOdometry(const DatasetConfig &config);

@@ -145,7 +145,7 @@ bool ParseSecondsToNanos(const std::string &token, int64_t &ns) {
         // Exponent notation: fall back to double precision.
         double value = 0.0;
         if (!ParseDouble(token, value) || std::fabs(value) > 9e9) return false;
-        ns = std::llround(value * 1e9);
+        ns = SecondsToNanos(value);
         return true;
     }
     ns = whole * kNanos + fraction;

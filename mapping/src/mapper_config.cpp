@@ -16,7 +16,7 @@ void MapperConfig::Validate() const {
             "must be > 0");
     map.Validate();
     movers.Validate();
-    noise_calibration.Validate();
+    smoother.Validate();
     Require(keyframe_distance_m >= 0.0, "mapper.keyframe_distance_m", "must be >= 0");
     Require(keyframe_angle_deg >= 0.0, "mapper.keyframe_angle_deg", "must be >= 0");
     Require(max_source_points >= 10, "mapper.max_source_points", "must be >= 10");
@@ -33,7 +33,6 @@ void MapperConfig::Validate() const {
     Require(max_registration_residuals >= 1, "mapper.max_registration_residuals", "must be >= 1");
     Require(max_doppler_residuals >= 0, "mapper.max_doppler_residuals", "must be >= 0");
     Require(refine_max_iterations >= 1, "mapper.refine_max_iterations", "must be >= 1");
-    Require(refine_outer_iterations >= 1, "mapper.refine_outer_iterations", "must be >= 1");
     Require(registration_floor_sigma_translation_m >= 0.0,
             "mapper.registration_floor_sigma_translation_m", "must be >= 0");
     Require(registration_floor_sigma_rotation_rad >= 0.0,
@@ -42,15 +41,8 @@ void MapperConfig::Validate() const {
             "mapper.registration_weak_ratio", "must be in [0, 1)");
     Require(registration_cluster_m > 0.0 && std::isfinite(registration_cluster_m),
             "mapper.registration_cluster_m", "must be > 0");
-    if (refinement == Refinement::kWindow) window.Validate();
     Require(min_correspondences >= 6, "mapper.min_correspondences", "must be >= 6");
     Require(max_rms_m > 0.0, "mapper.max_rms_m", "must be > 0");
-    Require(max_prior_mahalanobis_squared > 0.0, "mapper.max_prior_mahalanobis_squared",
-            "must be > 0");
-    Require(registration_sigma_translation_m > 0.0, "mapper.registration_sigma_translation_m",
-            "must be > 0");
-    Require(registration_sigma_rotation_rad > 0.0, "mapper.registration_sigma_rotation_rad",
-            "must be > 0");
     Require(min_observability >= 0.0 && min_observability < 1.0, "mapper.min_observability",
             "must be in [0, 1)");
 }
@@ -79,24 +71,6 @@ const char *ToString(RobustKernel kernel) {
             return "tukey";
     }
     return "?";
-}
-
-const char *ToString(Refinement refinement) {
-    switch (refinement) {
-        case Refinement::kNone:
-            return "none";
-        case Refinement::kCeres:
-            return "ceres";
-        case Refinement::kWindow:
-            return "window";
-        case Refinement::kFilter:
-            return "filter";
-    }
-    return "?";
-}
-
-Refinement ParseRefinement(const std::string &name) {
-    return ParseChoice(RefinementChoices(), name, "refinement");
 }
 
 RegistrationMethod ParseRegistrationMethod(const std::string &name) {

@@ -1,12 +1,14 @@
-// The steps of RadarMapper::Register around the registration: the priors on the two chains, the
-// estimate (first scan, too few points, planar or 3-D), its fallback to the prior, the window
-// smoother and the map update (mapper_state.hpp).
+// The steps of RadarMapper::Register around the registration: the prediction, the estimate
+// (first scan, too few points, planar or 3-D), the smoother's step and the map update
+// (mapper_state.hpp).
 #include <chrono>
+#include <cmath>
 #include <string>
 #include <utility>
 
 #include "dorado/core/angles.hpp"
 #include "dorado/core/time.hpp"
+#include "ground_factor.hpp"
 #include "mapper_state.hpp"
 #include "planar_registration.hpp"
 #include "pose_information.hpp"
@@ -18,41 +20,57 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-WindowNoise WindowNoiseOf(const MapperConfig &config) {
-    return {config.doppler_sigma_mps, config.kernel, config.kernel_scale};
-}
-
-// A planar registration as the mapper's estimate (the registered pose on the map's chain, the
-// output fused from it).
+// A planar registration as the mapper's estimate.
 ScanEstimate EstimateOf(const PlanarRegistration &reg) {
     ScanEstimate out;
     out.cause = reg.cause;
     out.detail = reg.detail;
     out.observability = reg.observability;
-    out.prior_mahalanobis_squared = reg.prior_mahalanobis_squared;
     out.correspondences = reg.count;
     out.fitness_rms_m = reg.rms_m;
     out.alignment_ms = reg.alignment_ms;
     out.registration_ms = reg.registration_ms;
     out.refinement_ms = reg.refinement_ms;
-    out.T_map_base = reg.T_map_base;
-    out.T_world_base = reg.T_world_base;
-    out.covariance = reg.covariance;
     out.registered = reg.registered;
     return out;
 }
 
+// The registered pose z against the prediction (P its covariance), with the registration's
+// information w I (possibly singular: zero where the map does not observe): nu^T S^-1 nu with
+// nu = Log(prediction^-1 z), S = P + (w I)^-1, S^-1 = w I - w I (P^-1 + w I)^-1 w I (zero along
+// I's null space).
+double InnovationMahalanobisSquared(const Vector6d &nu, const Matrix6d &P_inv, const Matrix6d &I,
+                                    double w) {
+    const Matrix6d wI = w * I;
+    const Matrix6d S_inv = wI - wI * (P_inv + wI).ldlt().solve(wI);
+    return nu.dot(S_inv * nu);
+}
+
+// The registration's weight: 1 when it agrees with the prediction within max_chi2; otherwise its
+// information is scaled down until it does (its covariance inflated to explain the innovation),
+// so that a wrong registration moves the pose by a few of the prediction's sigmas at most, and a
+// right one against a wrong prediction still pulls it back over a few scans. Bisection on log w
+// (the distance grows with w).
+double RegistrationWeight(double m2, const Vector6d &nu, const Matrix6d &P_inv, const Matrix6d &I,
+                          double max_chi2) {
+    if (!(m2 > max_chi2)) return 1.0;
+    double lo = -30.0, hi = 0.0;  // log w
+    for (int i = 0; i < 40; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (InnovationMahalanobisSquared(nu, P_inv, I, std::exp(mid)) > max_chi2 ? hi : lo) = mid;
+    }
+    return std::exp(lo);
+}
+
 }  // namespace
 
-RadarMapper::State::State(const MapperConfig &c, const Extrinsics &e, const VehicleGeometry &g)
+RadarMapper::State::State(const MapperConfig &c, const Extrinsics &e)
     : config(c),
       extrinsics(e),
       map(c.map),
       movers(c.movers, c.map.voxel_size_m),
-      noise(c.noise_calibration),
-      threshold(c.initial_threshold_m, c.min_threshold_m, c.min_motion_m, c.max_range_m) {
-    if (c.refinement == Refinement::kWindow) window.emplace(c.window, WindowNoiseOf(c), e, g);
-}
+      smoother(c.smoother),
+      threshold(c.initial_threshold_m, c.min_threshold_m, c.min_motion_m, c.max_range_m) {}
 
 // A 2D radar's map lives in the plane: the prior's motion since the previous pose projected onto
 // it (x, y and the rotation about the base's z axis), z, roll and pitch held. A 3-D gyro's roll and
@@ -69,41 +87,23 @@ MotionPrior OnThePlane(const MotionPrior &prior, const Eigen::Isometry3d &T_worl
     return planar;
 }
 
-MotionPrior RadarMapper::State::OnMapChain(const MotionPrior &prior) const {
-    MotionPrior prior_map = prior;
-    if (!has_pose) return prior_map;
-    prior_map.T_world_base = T_map_base_last * T_world_base_last.inverse() * prior.T_world_base;
-    // After fallbacks the previous pose is the prior's, not the map's: its uncertainty relative to
-    // the map, carried along the motion, adds to this scan's (P = Ad(D^-1) U Ad(D^-1)^T + C).
-    if (!unanchored_covariance.isZero()) {
-        const Matrix6d Ad =
-            AdjointSE3((T_world_base_last.inverse() * prior.T_world_base).inverse());
-        prior_map.covariance += Ad * unanchored_covariance * Ad.transpose();
-    }
-    return prior_map;
-}
-
-// P^- = Ad(D^-1) P Ad(D^-1)^T + C_prior, D the prior's motion from the previous output pose.
-MotionPrior RadarMapper::State::OutputPrior(const MotionPrior &prior) const {
-    MotionPrior prior_output = prior;
-    if (config.refinement == Refinement::kFilter && has_pose) {
-        const Matrix6d Ad =
-            AdjointSE3((T_world_base_last.inverse() * prior.T_world_base).inverse());
-        prior_output.covariance = Ad * filter_covariance * Ad.transpose() + prior.covariance;
-    }
-    return prior_output;
+MotionPrior RadarMapper::State::Predict(const MotionPrior &prior) const {
+    MotionPrior prediction = prior;
+    if (!has_pose) return prediction;
+    const Eigen::Isometry3d motion = T_world_base_last.inverse() * prior.T_world_base;
+    prediction.T_world_base = T_world_base_last * motion;
+    const Matrix6d Ad = AdjointSE3(motion.inverse());
+    prediction.covariance = Ad * smoother.newest_covariance() * Ad.transpose() + prior.covariance;
+    return prediction;
 }
 
 ScanEstimate RadarMapper::State::Estimate(const Eigen::Matrix3Xd &source_base,
                                           const std::vector<DopplerObservation> &doppler,
-                                          const MotionPrior &prior_map, const MotionPrior &prior,
-                                          const MotionPrior &prior_output, const MapperInput &input,
+                                          const MotionPrior &prediction, const MapperInput &input,
                                           double threshold_m) {
     if (map.empty()) {  // the first scan starts the map at the prior, its origin
         ScanEstimate first;
         first.first_scan = true;
-        first.T_map_base = prior_map.T_world_base;
-        first.T_world_base = prior.T_world_base;
         return first;
     }
     const int source_points = static_cast<int>(source_base.cols());
@@ -113,78 +113,97 @@ ScanEstimate RadarMapper::State::Estimate(const Eigen::Matrix3Xd &source_base,
         too_few.detail = std::to_string(source_points);
         return too_few;
     }
-    if (planar) {  // a 2D radar: x, y and yaw (planar_registration.cpp)
-        const ScanEstimate estimate =
-            EstimateOf(RegisterPlanar(source_base, prior_map, prior, map, config, threshold_m));
-        if (!estimate.fallback())
-            threshold.Update(prior_map.T_world_base.inverse() * estimate.T_map_base);
-        return estimate;
-    }
+    if (planar)  // a 2D radar: x, y and yaw (planar_registration.cpp)
+        return EstimateOf(
+            RegisterPlanar(source_base, prediction, map, config, threshold_m));
     const GroundUp *ground = input.ground_base ? &*input.ground_base : nullptr;
-    return RegisterToMap(source_base, doppler, prior_map, prior_output, input.dt_s, threshold_m,
-                         ground);
+    return RegisterToMap(source_base, doppler, prediction, input.dt_s, threshold_m, ground);
 }
 
-ScanEstimate RadarMapper::State::FallBack(ScanEstimate estimate, const MotionPrior &prior,
-                                          const MotionPrior &prior_map) {
-    estimate.T_world_base = prior.T_world_base;
-    estimate.covariance = ScaleBlocks(prior.covariance, noise.scales().prior);
-    estimate.T_map_base = prior_map.T_world_base;
-    ++fallbacks;
-    return estimate;
-}
-
-// The window smoother's step: the scan's matches (none on a fallback), its static points' Doppler
-// and the gyro rate join the window, initialised at the registered (or prior) pose and at the twist
-// the prior implies. The motion prior itself is not a factor: the Doppler residuals, the kinematic
-// model and the WNOA prior carry the information it was built from (the odometry's twist comes
-// from the same Doppler points), so adding it would count them twice. Every scan enters the
-// window; a fallback one without registration residuals.
-ScanEstimate RadarMapper::State::SmoothWindow(ScanEstimate estimate,
-                                              const std::vector<DopplerObservation> &doppler,
-                                              const MotionPrior &prior, const MapperInput &input) {
-    const auto t_window = Clock::now();
-    WindowScan scan;
-    scan.dt_s = input.dt_s;
-    scan.T_world_base_initial = estimate.T_world_base;
-    if (has_pose) {
-        const Vector6d xi = LogSE3(T_world_base_last.inverse() * prior.T_world_base) / input.dt_s;
-        scan.v_base_initial = xi.head<3>();
-        scan.omega_base_initial = xi.tail<3>();
+std::vector<WrittenPose> RadarMapper::State::Smooth(PendingScan scan, const MotionPrior &prior,
+                                                    const MotionPrior &prediction,
+                                                    const ScanEstimate &estimate,
+                                                    const GroundUp *ground,
+                                                    RegistrationResult &result) {
+    SmootherScan in;
+    in.stamp_ns = scan.written.stamp_ns;
+    in.time_s = time_s;
+    in.motion = has_pose ? T_world_base_last.inverse() * prior.T_world_base : prior.T_world_base;
+    in.motion_covariance = prior.covariance;
+    const RegisteredPose &registered = estimate.registered;
+    if (!estimate.fallback() && !estimate.first_scan && registered.valid) {
+        // A registration far from the prediction is down-weighted, not thrown away.
+        const Vector6d nu = LogSE3(prediction.T_world_base.inverse() * registered.T_world_base);
+        const Matrix6d P_inv = CovarianceFromInformation(prediction.covariance);
+        result.prior_mahalanobis_squared =
+            InnovationMahalanobisSquared(nu, P_inv, registered.information, 1.0);
+        result.registration_weight =
+            RegistrationWeight(result.prior_mahalanobis_squared, nu, P_inv, registered.information,
+                               config.smoother.max_registration_chi2);
+        in.T_world_base_registered = registered.T_world_base;
+        in.registration_information = result.registration_weight * registered.information;
+        // kiss-icp: the threshold adapts to how far registration corrected the prediction.
+        threshold.Update(prediction.T_world_base.inverse() * registered.T_world_base);
     }
-    scan.matches = estimate.matches;
-    if (config.use_doppler) scan.doppler = Thin(doppler, config.max_doppler_residuals);
-    if (input.gyro_base_radps && input.gyro_base_radps->allFinite())
-        scan.gyro_base_radps = *input.gyro_base_radps;
-    estimate.T_world_base = window->Add(scan).T_world_base;
-    estimate.refinement_ms += MillisecondsSince(t_window);
-    // The window's marginal is not computed: the prior and the registration fused by their
-    // information stand in for it (the window's older scans only tighten it).
-    if (estimate.registered.valid)
-        estimate.covariance =
-            CovarianceFromInformation(CovarianceFromInformation(prior.covariance) +
-                                      CovarianceFromInformation(estimate.registered.covariance));
-    return estimate;
+    if (ground != nullptr && has_pose &&
+        GroundConsistent(*ground, prediction.T_world_base,
+                         prediction.covariance.bottomRightCorner<3, 3>())) {
+        in.ground_base = *ground;
+        result.ground_used = true;
+    }
+    T_world_base_last = smoother.Add(in);
+    has_pose = true;
+    result.T_world_base = T_world_base_last;
+    result.covariance = smoother.newest_covariance();
+
+    scan.written.prior = prior;
+    scan.written.registered = registered;
+    scan.written.first_scan = estimate.first_scan;
+    scan.written.registration_weight = result.registration_weight;
+    scan.fallback = estimate.fallback();
+    if (estimate.first_scan) {  // the origin starts the map at once: the next scans register to it
+        scan.written.map_points_added_world =
+            map.Update(T_world_base_last * scan.p_base, T_world_base_last.translation());
+        T_world_base_last_keyframe = T_world_base_last;
+        scan.written.map_updated = scan.in_map = true;
+        map.BuildIndex();
+    }
+    pending.push_back(std::move(scan));
+    return Write(smoother.TakeSmoothed(), result.times.map_update_ms);
 }
 
-bool RadarMapper::State::IsKeyframe(const Eigen::Isometry3d &T_map_base) const {
+bool RadarMapper::State::IsKeyframe(const Eigen::Isometry3d &T_world_base) const {
     if (config.keyframe_distance_m <= 0.0 && config.keyframe_angle_deg <= 0.0) return true;
-    const Eigen::Isometry3d delta = T_world_base_last_keyframe.inverse() * T_map_base;
+    const Eigen::Isometry3d delta = T_world_base_last_keyframe.inverse() * T_world_base;
     return delta.translation().norm() >= config.keyframe_distance_m ||
            RadToDeg(RotationAngle(delta.linear())) >= config.keyframe_angle_deg;
 }
 
-MapUpdate RadarMapper::State::UpdateMap(const Eigen::Matrix3Xd &p_base,
-                                        const Eigen::Isometry3d &T_map_base, bool fallback) {
+std::vector<WrittenPose> RadarMapper::State::Write(const std::vector<SmoothedPose> &smoothed,
+                                                   double &map_update_ms) {
     const auto t_map = Clock::now();
-    MapUpdate out;
-    if ((!fallback || config.update_map_on_fallback) && (map.empty() || IsKeyframe(T_map_base))) {
-        out.points_added_world = map.Update(T_map_base * p_base, T_map_base.translation());
-        T_world_base_last_keyframe = T_map_base;
-        map.BuildIndex();  // PCL's float copy of the map is part of the update's cost
-        out.updated = true;
+    std::vector<WrittenPose> out;
+    bool updated = false;
+    for (const SmoothedPose &pose : smoothed) {
+        if (pending.empty() || pending.front().written.stamp_ns != pose.stamp_ns)
+            throw std::logic_error("RadarMapper: the smoother and the pending scans disagree");
+        PendingScan scan = std::move(pending.front());
+        pending.pop_front();
+        WrittenPose &written = scan.written;
+        written.T_world_base = pose.T_world_base;
+        written.covariance = pose.motion_covariance;
+        if (!scan.in_map && (!scan.fallback || config.update_map_on_fallback) &&
+            (map.empty() || IsKeyframe(pose.T_world_base))) {
+            written.map_points_added_world =
+                map.Update(pose.T_world_base * scan.p_base, pose.T_world_base.translation());
+            T_world_base_last_keyframe = pose.T_world_base;
+            written.map_updated = true;
+            updated = true;
+        }
+        out.push_back(std::move(written));
     }
-    out.ms = MillisecondsSince(t_map);
+    if (updated) map.BuildIndex();  // PCL's float copy of the map is part of the update's cost
+    map_update_ms = MillisecondsSince(t_map);
     return out;
 }
 

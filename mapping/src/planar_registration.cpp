@@ -240,17 +240,17 @@ PlanarCovariance RegistrationCovariancePlanar(const std::vector<Match> &matches,
 
 }  // namespace
 
-PlanarRegistration RegisterPlanar(const Eigen::Matrix3Xd &source_base, const MotionPrior &prior_map,
-                                  const MotionPrior &prior, const LocalMap &local_map,
+PlanarRegistration RegisterPlanar(const Eigen::Matrix3Xd &source_base,
+                                  const MotionPrior &prediction, const LocalMap &local_map,
                                   const MapperConfig &config, double threshold_m) {
     PlanarRegistration out;
     const LocalMap::Impl &map = local_map.impl();
     const auto loss = MakeLoss(config.kernel, config.kernel_scale);
     const auto t_align = Clock::now();
 
-    // 1. Alignment from the prior: the registration alone (the 3-D path's PCL ICP).
+    // 1. Alignment from the prediction: the registration alone (the 3-D path's PCL ICP).
     const Solved aligned = Solve(source_base, map, threshold_m, loss.get(), config,
-                                 config.max_iterations, nullptr, prior_map.T_world_base);
+                                 config.max_iterations, nullptr, prediction.T_world_base);
     const bool converged = aligned.converged;
     const Eigen::Isometry3d &T_world_base_aligned = aligned.T_world_base;
     out.alignment_ms = MillisecondsSince(t_align);
@@ -261,14 +261,6 @@ PlanarRegistration RegisterPlanar(const Eigen::Matrix3Xd &source_base, const Mot
     out.rms_m =
         matches.empty() ? 0.0 : std::sqrt(found.sum_sq / static_cast<double>(matches.size()));
     out.observability = Observability(matches);
-    // The jump test: the prior widened by the registration's own noise, in the plane.
-    const double st = config.registration_sigma_translation_m;
-    const double sr = config.registration_sigma_rotation_rad;
-    const Eigen::Matrix3d widened =
-        PlanarBlock(prior_map.covariance) +
-        Eigen::Vector3d(st * st, st * st, sr * sr).asDiagonal().toDenseMatrix();
-    const Eigen::Vector3d jump = PlanarMinus(prior_map.T_world_base, T_world_base_aligned);
-    out.prior_mahalanobis_squared = jump.dot(Inverse(widened) * jump);
     out.registration_ms = MillisecondsSince(t_align);
 
     if (!converged) {
@@ -282,21 +274,15 @@ PlanarRegistration RegisterPlanar(const Eigen::Matrix3Xd &source_base, const Mot
     } else if (out.observability < config.min_observability) {
         out.cause = FallbackCause::kDegenerate;
         out.detail = "observability " + std::to_string(out.observability);
-    } else if (out.prior_mahalanobis_squared > config.max_prior_mahalanobis_squared) {
-        out.cause = FallbackCause::kJump;
-        out.detail = "Mahalanobis^2 " + std::to_string(out.prior_mahalanobis_squared);
     }
     if (out.cause != FallbackCause::kNone) return out;
 
     const auto t_refine = Clock::now();
-    // 2. The registered pose (the map's chain): registration + the map chain's prior.
+    // 2. The registered pose: registration + the prediction.
     Eigen::Isometry3d T_map_base = T_world_base_aligned;
-    const bool ceres = config.refinement != Refinement::kNone;
-    if (ceres) {
-        const Solved refined = Solve(source_base, map, threshold_m, loss.get(), config,
-                                     config.refine_max_iterations, &prior_map, T_map_base);
-        if (refined.converged) T_map_base = refined.T_world_base;
-    }
+    const Solved refined = Solve(source_base, map, threshold_m, loss.get(), config,
+                                 config.refine_max_iterations, &prediction, T_map_base);
+    if (refined.converged) T_map_base = refined.T_world_base;
     const std::vector<Match> final_matches =
         FindMatches(source_base, T_map_base, map, threshold_m).matches;
     const PlanarCovariance registration =
@@ -307,23 +293,9 @@ PlanarRegistration RegisterPlanar(const Eigen::Matrix3Xd &source_base, const Mot
     registered.clusters = registration.clusters;
     registered.valid = final_matches.size() >= 3 && C_reg.allFinite();
     registered.T_world_base = T_map_base;
-    registered.covariance = WithPlanarBlock(prior_map.covariance, C_reg);
+    registered.covariance = WithPlanarBlock(prediction.covariance, C_reg);
     registered.information = WithPlanarBlock(Matrix6d::Zero(), Inverse(C_reg));
-    out.T_map_base = T_map_base;
-
-    // 3. The output: its prior fused with the registered pose by their informations (refinement
-    //    none: the registered pose itself).
-    if (!ceres || !registered.valid) {
-        out.T_world_base = T_map_base;
-        out.covariance = registered.covariance;
-    } else {
-        const Eigen::Matrix3d I_prior = Inverse(PlanarBlock(prior.covariance));
-        const Eigen::Matrix3d I_reg = Inverse(C_reg);
-        const Eigen::Matrix3d C = Inverse(I_prior + I_reg);
-        const Eigen::Vector3d d = C * (I_reg * PlanarMinus(prior.T_world_base, T_map_base));
-        out.T_world_base = PlanarPlus(prior.T_world_base, d);
-        out.covariance = WithPlanarBlock(prior.covariance, C);
-    }
+    if (!registered.valid) out.cause = FallbackCause::kUnrefined;
     out.refinement_ms = MillisecondsSince(t_refine);
     return out;
 }

@@ -3,9 +3,8 @@
 // freedom (x, y, yaw) as the right perturbation xi = (rho_x, rho_y, phi_z) of a pose, whose z,
 // roll and pitch are the prior's (held). The same steps as the 3-D path (radar_mapper.cpp):
 // alignment from the prior (here a point-to-point ICP in the plane, Gauss-Newton with the robust
-// kernel's weights), the checks, the registered pose (registration + the prior on the map's
-// chain), then the output (the output chain's prior fused with the registered pose by their
-// informations, the registration's counted by its clustered covariance). The Doppler enters
+// kernel's weights), the checks, the registered pose (registration + the prediction) and the
+// registration's clustered covariance, which the smoother weighs it by. The Doppler enters
 // through the prior (doppler, imu+doppler) and the static mask, as in 3-D.
 
 #include <Eigen/Core>
@@ -29,26 +28,22 @@ inline constexpr int kPlanarAxes[3] = {0, 1, 5};
                                           const Eigen::Isometry3d &T_b);
 
 struct PlanarRegistration {
-    FallbackCause cause = FallbackCause::kNone;  ///< kNone: trusted
+    FallbackCause cause = FallbackCause::kNone;  ///< kNone: registered
     std::string detail;
     int count = 0;  ///< matches within the threshold at the aligned pose
     double rms_m = 0.0;
     /// lambda_min / lambda_max of the matched points' 2-D scatter (0: all on one line).
     double observability = 0.0;
-    double prior_mahalanobis_squared = 0.0;  ///< of the aligned pose, in the plane
-    Eigen::Isometry3d T_map_base = Eigen::Isometry3d::Identity();    ///< registered (map chain)
-    Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();  ///< the output
-    Matrix6d covariance = Matrix6d::Zero();  ///< of the output; held axes: the prior's
+    /// The registered pose; its covariance's held axes are the prediction's, its information
+    /// zero there.
     RegisteredPose registered;
     double alignment_ms = 0.0, registration_ms = 0.0, refinement_ms = 0.0;
 };
 
-/// One scan's planar registration. prior_map: the prior on the map's chain (alignment start and
-/// the registered pose's prior); prior: the output chain's. With refinement none the output is
-/// the aligned pose; otherwise the fused one (refinement window is refused by the mapper).
+/// One scan's planar registration from the prediction (the alignment's start and the registered
+/// pose's prior).
 [[nodiscard]] PlanarRegistration RegisterPlanar(const Eigen::Matrix3Xd &source_base,
-                                                const MotionPrior &prior_map,
-                                                const MotionPrior &prior, const LocalMap &map,
+                                                const MotionPrior &prediction, const LocalMap &map,
                                                 const MapperConfig &config, double threshold_m);
 
 }  // namespace dorado::mapping

@@ -100,15 +100,6 @@ Matrix6d AdjointSE3(const Eigen::Isometry3d &T) {
     return Ad;
 }
 
-Matrix6d FilterMotionCovariance(const Matrix6d &P_predicted, const Matrix6d &Q, const Matrix6d &P) {
-    const Matrix6d P_predicted_inv = CovarianceFromInformation(P_predicted);
-    const Matrix6d I_measured = CovarianceFromInformation(P) - P_predicted_inv;
-    const Matrix6d I_minus_K = P * P_predicted_inv;
-    const Matrix6d K = Matrix6d::Identity() - I_minus_K;
-    const Matrix6d motion = K * (P_predicted - Q) * K.transpose() +
-                            I_minus_K * Q * I_minus_K.transpose() + P * I_measured * P;
-    return 0.5 * (motion + motion.transpose());
-}
 
 Matrix6d CovarianceFromInformation(const Matrix6d &information) {
     const Matrix6d regularised = information + 1e-12 * Matrix6d::Identity();

@@ -46,15 +46,6 @@ namespace dorado::mapping {
 /// Ad(T) in the xi = [rho; phi] convention: T ExpSE3(xi) = ExpSE3(Ad(T) xi) T.
 [[nodiscard]] Matrix6d AdjointSE3(const Eigen::Isometry3d &T);
 
-/// The covariance of the motion T_prev^-1 T of a filter step (refinement: filter) whose prediction
-/// had covariance P_predicted = P' + Q (P' the previous posterior moved to the new pose, Q the
-/// prior's one-step covariance) and whose posterior is P = (P_predicted^-1 + I_m)^-1 (I_m: the
-/// measurements' information): with the gain K = P I_m = I - P P_predicted^-1,
-/// K P' K^T + (I - K) Q (I - K)^T + P I_m P (the previous error, the prior's and the
-/// measurements', independent).
-[[nodiscard]] Matrix6d FilterMotionCovariance(const Matrix6d &P_predicted, const Matrix6d &Q,
-                                              const Matrix6d &P);
-
 /// (sum of the informations)^-1, symmetrised; a covariance of zeros-to-infinity is never returned:
 /// the sum is regularised by 1e-12 on its diagonal.
 [[nodiscard]] Matrix6d CovarianceFromInformation(const Matrix6d &information);

@@ -31,33 +31,11 @@ void CheckInput(const RadarScan &scan_radar, const MapperInput &input, bool has_
         throw std::invalid_argument("RadarMapper::Register: the prior is not finite");
 }
 
-// The scan's result from its estimate (the registration's numbers and the output pose).
-RegistrationResult ResultOf(ScanEstimate estimate) {
-    RegistrationResult result;
-    result.T_world_base = estimate.T_world_base;
-    result.covariance = estimate.covariance;
-    result.registered = std::move(estimate.registered);
-    result.first_scan = estimate.first_scan;
-    result.fallback_cause = estimate.cause;
-    result.fallback_detail = std::move(estimate.detail);
-    result.correspondences = estimate.correspondences;
-    result.fitness_rms_m = estimate.fitness_rms_m;
-    result.observability = estimate.observability;
-    result.prior_mahalanobis_squared = estimate.prior_mahalanobis_squared;
-    result.doppler_residuals = estimate.doppler_residuals;
-    result.ground_used = estimate.ground_used;
-    result.times.alignment_ms = estimate.alignment_ms;
-    result.times.registration_ms = estimate.registration_ms;
-    result.times.refinement_ms = estimate.refinement_ms;
-    return result;
-}
-
 }  // namespace
 
-RadarMapper::RadarMapper(const MapperConfig &config, const Extrinsics &extrinsics,
-                         const VehicleGeometry &geometry) {
+RadarMapper::RadarMapper(const MapperConfig &config, const Extrinsics &extrinsics) {
     config.Validate();
-    state_ = std::make_unique<State>(config, extrinsics, geometry);
+    state_ = std::make_unique<State>(config, extrinsics);
 }
 RadarMapper::~RadarMapper() = default;
 RadarMapper::RadarMapper(RadarMapper &&) noexcept = default;
@@ -73,11 +51,6 @@ int RadarMapper::fallbacks() const {
     return state_->fallbacks;
 }
 void RadarMapper::SetPlanar() {
-    if (state_->window || state_->config.refinement == Refinement::kFilter)
-        throw std::invalid_argument(
-            std::string("refinement ") + ToString(state_->config.refinement) +
-            ": not for a 2D radar (planar mode registers x, y and yaw); use refinement ceres or "
-            "none");
     state_->planar = true;
 }
 bool RadarMapper::planar() const {
@@ -98,72 +71,74 @@ const char *ToString(FallbackCause cause) {
             return "bad fitness";
         case FallbackCause::kDegenerate:
             return "degenerate geometry";
-        case FallbackCause::kJump:
-            return "jump outside the prior";
+        case FallbackCause::kUnrefined:
+            return "refinement failed";
     }
     return "?";
 }
 
 RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const MapperInput &input) {
     State &s = *state_;
+    if (s.finished) throw std::logic_error("RadarMapper::Register: called after Finish");
     const MapperConfig &config = s.config;
     CheckInput(scan_radar, input, s.has_pose);
-    // The prior on the output's chain (a 2D radar's in the plane), the same motion on the map's.
+    // The prior (a 2D radar's in the plane) and the prediction it makes from the newest pose.
     const MotionPrior prior =
         s.planar && s.has_pose ? OnThePlane(input.prior, s.T_world_base_last) : input.prior;
-    const MotionPrior prior_map = s.OnMapChain(prior);
+    const MotionPrior prediction = s.Predict(prior);
     const auto t_start = Clock::now();
     const double threshold_m = s.threshold.Threshold();
     if (s.has_pose) s.time_s += input.dt_s;
 
     // 1. Points: range gate, dynamic mask and movers, base frame, voxel downsampling. The map
     //    drops what it held where something moves now.
-    ScanPoints points = SelectScanPoints(scan_radar, input, prior_map.T_world_base,
+    ScanPoints points = SelectScanPoints(scan_radar, input, prediction.T_world_base,
                                          s.extrinsics.T_base_radar, config, s.movers, s.time_s);
-    const int map_points_dropped = static_cast<int>(s.map.Remove(points.moving_cells));
+    RegistrationResult result;
+    result.map_points_dropped = static_cast<int>(s.map.Remove(points.moving_cells));
+    if (result.map_points_dropped > 0) result.map_cells_dropped = std::move(points.moving_cells);
     const Eigen::Matrix3Xd source_base =
         ThinColumns(VoxelDownsample(points.p_base, config.scan_voxel_m), config.max_source_points);
-    const double preprocess_ms = MillisecondsSince(t_start);
+    result.times.preprocess_ms = MillisecondsSince(t_start);
 
-    // 2-3. Registration and refinement, or the prior; the window smoother; one chain or two.
-    const MotionPrior prior_output = s.OutputPrior(prior);
-    ScanEstimate estimate =
-        s.Estimate(source_base, points.doppler, prior_map, prior, prior_output, input, threshold_m);
-    if (estimate.fallback()) estimate = s.FallBack(std::move(estimate), prior, prior_map);
-    if (estimate.fallback())
-        s.unanchored_covariance = prior_map.covariance;
-    else
-        s.unanchored_covariance.setZero();
-    const NoiseScales noise_scales = s.noise.scales();
-    if (s.window) estimate = s.SmoothWindow(std::move(estimate), points.doppler, prior, input);
-    const bool filter = config.refinement == Refinement::kFilter;
-    if (!RefinesWithCeres(config.refinement) || (filter && config.filter_builds_map))
-        estimate.T_map_base = estimate.T_world_base;
-    if (filter)  // P^- kept on a fallback or a failed update; zero at the map's origin
-        s.filter_covariance = estimate.filter_covariance.value_or(prior_output.covariance);
-    if (filter && estimate.first_scan) s.filter_covariance.setZero();
-
-    // 4. Map update (keyframes only, when configured).
-    MapUpdate update = s.UpdateMap(points.p_base, estimate.T_map_base, estimate.fallback());
-    s.T_world_base_last = estimate.T_world_base;
-    s.T_map_base_last = estimate.T_map_base;
-    s.has_pose = true;
-
-    RegistrationResult result = ResultOf(std::move(estimate));
-    result.threshold_m = threshold_m;
+    // 2-3. Registration to the map and its refinement (or nothing to register).
+    const GroundUp *ground = input.ground_base && !s.planar ? &*input.ground_base : nullptr;
+    const ScanEstimate estimate =
+        s.Estimate(source_base, points.doppler, prediction, input, threshold_m);
+    result.first_scan = estimate.first_scan;
+    result.fallback_cause = estimate.cause;
+    result.fallback_detail = estimate.detail;
     result.source_points = static_cast<int>(source_base.cols());
+    result.correspondences = estimate.correspondences;
+    result.fitness_rms_m = estimate.fitness_rms_m;
+    result.observability = estimate.observability;
+    result.threshold_m = threshold_m;
+    result.doppler_residuals = estimate.doppler_residuals;
+    result.registered = estimate.registered;
     result.mover_dropped = std::move(points.mover_dropped);
-    result.map_points_dropped = map_points_dropped;
-    if (map_points_dropped > 0) result.map_cells_dropped = std::move(points.moving_cells);
-    result.noise_scales = noise_scales;
-    if (filter) result.filter_covariance = s.filter_covariance;
-    result.map_updated = update.updated;
-    result.map_points_added_world = std::move(update.points_added_world);
+    result.times.alignment_ms = estimate.alignment_ms;
+    result.times.registration_ms = estimate.registration_ms;
+    if (estimate.fallback()) ++s.fallbacks;
+
+    // 4. The smoother: the newest pose, and the poses that leave it written with their points
+    //    in the map.
+    PendingScan pending;
+    pending.written.stamp_ns = scan_radar.stamp_ns;
+    pending.p_base = std::move(points.p_base);
+    const auto t_smooth = Clock::now();
+    result.written = s.Smooth(std::move(pending), prior, prediction, estimate, ground, result);
+    result.times.refinement_ms = estimate.refinement_ms + MillisecondsSince(t_smooth) -
+                                 result.times.map_update_ms;
     result.local_map_points = s.map.size();
-    result.times.preprocess_ms = preprocess_ms;
-    result.times.map_update_ms = update.ms;
     result.times.total_ms = MillisecondsSince(t_start);
     return result;
+}
+
+std::vector<WrittenPose> RadarMapper::Finish() {
+    State &s = *state_;
+    s.finished = true;
+    double map_update_ms = 0.0;
+    return s.Write(s.smoother.Flush(), map_update_ms);
 }
 
 }  // namespace dorado::mapping

@@ -5,7 +5,6 @@
 #include <memory>
 
 #include "cost_functions.hpp"
-#include "dorado/mapping/noise_calibration.hpp"
 #include "ground_factor.hpp"
 #include "pose_information.hpp"
 #include "registration.hpp"
@@ -99,23 +98,6 @@ bool AddGround(ceres::Problem &problem, const GroundUp *ground, const MotionPrio
 
 }  // namespace
 
-RefinementOutput RegisterAlone(const RefinementInput &input, const MapperConfig &config) {
-    RefinementOutput out;
-    out.T_world_base = input.T_world_base_initial;
-    const auto loss = MakeLoss(config.kernel, config.kernel_scale);
-    // Only the new pose is free and the map is fixed: no gauge freedom to remove (unlike
-    // pose_graph_3d, which pins its first pose).
-    PoseBlocks pose(input.T_world_base_initial);
-    ceres::Problem problem(ProblemOptions());
-    AddRegistration(problem, input, loss.get(), pose);
-    const Solved solved = Solve(problem, pose, config);
-    out.iterations += solved.iterations;
-    if (!solved.usable) return out;
-    out.registered = RegistrationCovariance(pose.Pose(), *input.matches, loss.get(), config);
-    out.usable = out.registered.valid;
-    return out;
-}
-
 namespace {
 
 // What step 1 found: the registered pose, when usable.
@@ -126,15 +108,13 @@ struct JointRegistration {
     bool ground_used = false;
 };
 
-// Step 1: registration + Doppler + prior residuals on the map's chain (the refinement of the
-// previous releases, whose registered poses keep the map consistent), from input's initial pose.
+// Registration + Doppler + prior residuals, from input's initial pose.
 JointRegistration RegisterJointly(const RefinementInput &input, const MapperConfig &config,
                                   const ceres::LossFunction *loss) {
     PoseBlocks pose(input.T_world_base_initial);
     ceres::Problem problem(ProblemOptions());
     AddRegistration(problem, input, loss, pose);
-    AddDoppler(problem, input, input.doppler_registration, input.T_world_base_prev, config, loss,
-               pose);
+    AddDoppler(problem, input, input.doppler, input.T_world_base_prev, config, loss, pose);
     problem.AddResidualBlock(PriorError::Create(input.prior->T_world_base,
                                                 InverseCholeskyFactor<6>(input.prior->covariance)),
                              nullptr, pose.t.data(), pose.q.coeffs().data());
@@ -147,34 +127,18 @@ JointRegistration RegisterJointly(const RefinementInput &input, const MapperConf
     return out;
 }
 
-// W with W^T W = the registration's information: its covariance's inverse Cholesky factor, or,
-// with weak directions (a singular information), from the eigen-decomposition.
-Matrix6d RegistrationSqrtInformation(const RegisteredPose &registered) {
-    if (registered.weak_directions == 0) return InverseCholeskyFactor<6>(registered.covariance);
-    const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(registered.information);
-    const Vector6d sqrt_eigenvalues = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt();
-    return sqrt_eigenvalues.asDiagonal() * eig.eigenvectors().transpose();
-}
-
 }  // namespace
 
 RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &config) {
     RefinementOutput out;
     out.T_world_base = input.T_world_base_initial;
     const auto loss = MakeLoss(config.kernel, config.kernel_scale);
-    // 1. The registered pose and its covariance.
     const JointRegistration joint = RegisterJointly(input, config, loss.get());
-    out.iterations += joint.iterations;
+    out.iterations = joint.iterations;
     out.ground_used = joint.ground_used;
     if (!joint.usable) return out;
     out.registered = RegistrationCovariance(joint.T_map_base, *input.matches, loss.get(), config);
     if (!out.registered.valid) return out;
-    if (input.registration_scale != Eigen::Vector2d::Ones()) {  // the online noise calibration
-        out.registered.covariance =
-            ScaleBlocks(out.registered.covariance, input.registration_scale);
-        out.registered.information =
-            ScaleBlocks(out.registered.information, input.registration_scale.cwiseInverse());
-    }
     if (out.registered.weak_directions > 0) {
         // Solution remapping (Zhang et al. 2016): along the weak directions the registered pose
         // keeps the prior's value; the correction from the prior is kept across the strong ones.
@@ -183,40 +147,8 @@ RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &co
         out.registered.T_world_base =
             T_world_base_prior * ExpSE3(out.registered.strong_projector * xi);
     }
-
-    // 2. The output: its prior (a Gaussian: no robust loss) fused with the registered pose as one
-    //    6-DoF measurement, so that the registration's hundreds of residuals count only as much as
-    //    they show, and the Doppler residuals (none when the prior carries them).
-    const MotionPrior &prior = *input.prior_output;
-    PoseBlocks pose(prior.T_world_base);
-    ceres::Problem problem(ProblemOptions());
-    problem.AddResidualBlock(
-        PriorError::Create(prior.T_world_base, InverseCholeskyFactor<6>(prior.covariance)), nullptr,
-        pose.t.data(), pose.q.coeffs().data());
-    problem.AddResidualBlock(PriorError::Create(out.registered.T_world_base,
-                                                RegistrationSqrtInformation(out.registered)),
-                             nullptr, pose.t.data(), pose.q.coeffs().data());
-    AddDoppler(problem, input, input.doppler, input.T_world_base_prev_output, config, loss.get(),
-               pose);
-    // The ground again on the output's chain (its own estimate of the same scan: once per chain).
-    // Its information is not added to the covariance below, which is this scan's motion's
-    // relative to the map and the previous pose, not the absolute attitude's.
-    out.ground_used = AddGround(problem, input.ground, prior, loss.get(), pose) || out.ground_used;
-    const Solved solved = Solve(problem, pose, config);
-    out.iterations += solved.iterations;
-    if (!solved.usable) return out;
+    out.T_world_base = out.registered.T_world_base;
     out.usable = true;
-    out.T_world_base = pose.Pose();
-    // The output's covariance: the inputs' informations summed (first order at the solution).
-    Matrix6d information =
-        CovarianceFromInformation(prior.covariance) +
-        (out.registered.weak_directions > 0 ? out.registered.information
-                                            : CovarianceFromInformation(out.registered.covariance));
-    if (input.doppler != nullptr)
-        information +=
-            DopplerInformation(out.T_world_base, *input.doppler, input.T_world_base_prev_output,
-                               input.T_base_radar, input.dt_s, loss.get(), config);
-    out.covariance = CovarianceFromInformation(information);
     return out;
 }
 

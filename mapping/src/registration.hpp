@@ -48,54 +48,33 @@ struct Association {
 /// What the refinement of one scan starts from, by name (the mapper fills each field).
 struct RefinementInput {
     Eigen::Isometry3d T_world_base_initial = Eigen::Isometry3d::Identity();
-    /// The prior on the map's chain of poses (the registered poses the map is built from) and
-    /// that chain's previous pose (T_world_base_prev).
+    /// The prediction (the prior from the newest pose) and the newest pose (T_world_base_prev).
     const MotionPrior *prior = nullptr;
     const std::vector<Correspondence> *matches = nullptr;
-    /// The Doppler residuals of the output's step, and of the registered pose's step (usually
-    /// the same; either may be empty).
+    /// The Doppler residuals (empty when the prior carries the Doppler velocity already).
     const std::vector<DopplerObservation> *doppler = nullptr;
-    const std::vector<DopplerObservation> *doppler_registration = nullptr;
     Eigen::Isometry3d T_world_base_prev = Eigen::Isometry3d::Identity();
     Eigen::Isometry3d T_base_radar = Eigen::Isometry3d::Identity();
     double dt_s = 0.0;  ///< the interval the Doppler residuals compare the pose's velocity over
-    /// The prior on the output's chain (the smooth one: the odometry pulled toward the map) and its
-    /// previous pose. RefinePose fuses the registered pose into it.
-    const MotionPrior *prior_output = nullptr;
-    Eigen::Isometry3d T_world_base_prev_output = Eigen::Isometry3d::Identity();
     /// The road's up-vector seen in this scan (none: no ground residual): held against the
-    /// absolute roll and pitch of both steps' poses, each chain's once.
+    /// absolute roll and pitch of the pose.
     const GroundUp *ground = nullptr;
-    /// The registration's covariance scales (translation, rotation blocks) by the online noise
-    /// calibration (noise_calibration.hpp): applied to the registered pose's covariance.
-    Eigen::Vector2d registration_scale = Eigen::Vector2d::Ones();
 };
 
 struct RefinementOutput {
     Eigen::Isometry3d T_world_base;
     bool usable = false;
     int iterations = 0;
-    Matrix6d covariance = Matrix6d::Zero();  ///< of T_world_base (xi convention, pose_information)
-    RegisteredPose registered;               ///< the registered pose and its covariance
-    bool ground_used = false;  ///< the ground residual joined (passed the innovation gate)
+    RegisteredPose registered;  ///< the registered pose and the registration's covariance
+    bool ground_used = false;   ///< the ground residual joined (passed the innovation gate)
 };
 
-/// The registration alone and its covariance (registration_covariance) in `registered`, for
-/// refinement none and window, which do not fuse it here. refinement.cpp.
-[[nodiscard]] RefinementOutput RegisterAlone(const RefinementInput &input,
-                                             const MapperConfig &config);
-
-/// The refinement of the new pose in two steps. 1. The registered pose that the map is built from:
-/// registration + Doppler + prior residuals jointly (the registration's residuals at their
-/// per-point weight, which locks the pose to the map), and its covariance by
-/// registration_covariance.
-/// 2. The output pose: the output chain's prior fused with that registered pose as one 6-DoF
-/// measurement (and the Doppler residuals when the prior does not carry them), each by its
-/// information. T_world_base is the output, `registered` the registered pose.
-/// With input.ground, each step also holds its pose's roll and pitch to the road's up-vector
-/// (ground_factor.hpp), robustly and when its innovation against that step's prior passes the
-/// observation's gate.
-/// refinement.cpp.
+/// The registered pose: registration + Doppler + prior residuals jointly (the registration's
+/// residuals at their per-point weight, which locks the pose to the map), and the registration's
+/// own covariance by registration_covariance (what the smoother weighs it by). With
+/// input.ground, the pose's roll and pitch are also held to the road's up-vector
+/// (ground_factor.hpp), robustly and when its innovation against the prior passes the
+/// observation's gate. refinement.cpp.
 [[nodiscard]] RefinementOutput RefinePose(const RefinementInput &input, const MapperConfig &config);
 
 }  // namespace dorado::mapping

@@ -213,12 +213,25 @@ void DopplerOdometry::CorrectAttitude(const RadarScan &scan_radar, OdometryStep 
         step.ground.cov_roll_pitch = ground_filter_.covariance();
         return;
     }
-    // Frames: x_base = T_base_radar x_radar; the ground is sought among the static points.
-    const Eigen::Matrix3Xd points_base = T_base_radar_ * scan_radar.xyz_radar;
-    std::vector<bool> use(step.ego.labels.size());
-    for (std::size_t i = 0; i < use.size(); ++i) use[i] = step.ego.labels[i] == PointLabel::kStatic;
+    // Frames: x_base = T_base_radar x_radar; the ground is sought among the static points, in
+    // their order in the scan (only they are moved to the base frame). Each coordinate is
+    // t + ((R_0 x + R_1 y) + R_2 z), rounded as Eigen's product of the isometry with the scan.
+    const std::vector<PointLabel> &labels = step.ego.labels;
+    const auto static_count = std::count(labels.begin(), labels.end(), PointLabel::kStatic);
+    const Eigen::Matrix3d &R = T_base_radar_.linear();
+    const Eigen::Vector3d &t = T_base_radar_.translation();
+    Eigen::Matrix3Xd static_base(3, static_count);
+    for (Eigen::Index i = 0, k = 0; i < scan_radar.size(); ++i) {
+        if (labels[static_cast<std::size_t>(i)] != PointLabel::kStatic) continue;
+        const double x = scan_radar.xyz_radar(0, i), y = scan_radar.xyz_radar(1, i),
+                     z = scan_radar.xyz_radar(2, i);
+        for (int r = 0; r < 3; ++r)
+            static_base(r, k) = t[r] + ((R(r, 0) * x + R(r, 1) * y) + R(r, 2) * z);
+        ++k;
+    }
     const GroundObservation observation =
-        FitGroundPlane(ground_filter_.config().plane, points_base, use);
+        FitGroundPlane(ground_filter_.config().plane, static_base,
+                       std::vector<bool>(static_cast<std::size_t>(static_count), true));
     step.ground = ground_filter_.Update(observation, step.v_base_used_mps.norm() * step.dt_s,
                                         T_world_base_.linear());
     T_world_base_.linear() = step.ground.R_world_base;

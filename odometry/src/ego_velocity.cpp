@@ -13,44 +13,10 @@
 #include "robust_fit.hpp"
 #include "simd4.hpp"
 #include "validity.hpp"
+#include "weights_and_gates.hpp"
 
 namespace dorado::odometry {
 namespace {
-
-// eq. (2) weights from power, normalised to a largest weight of 1, and the inlier gate that
-// follows each point's Doppler noise.
-void AssignWeightsAndGates(const EgoVelocityConfig &config, const RadarScan &scan,
-                           internal::Workspace &ws) {
-    internal::DopplerSystem &s = ws.system;
-    const Eigen::Index n = s.size();
-    const double gate = config.gate_sigmas * config.doppler_sigma_mps;
-    s.gate2.setConstant(gate * gate);
-    if (!config.use_power || !scan.has_power) {
-        s.w.setOnes();
-        return;
-    }
-    // s.w holds the power [dB] of each used point on entry.
-    switch (config.power_weighting) {
-        case PowerWeighting::kSnr: {
-            // sigma_i^2 = sigma^2 (1 + N/S): w_i = sigma^2 / sigma_i^2 = 1 / (1 + 10^((ref-p)/10)).
-            const double ln10_10 = std::log(10.0) / 10.0;
-            s.w = 1.0 / (1.0 + ((config.snr_reference_db - s.w.array()) * ln10_10).exp());
-            const double max_scale2 = config.max_gate_scale * config.max_gate_scale;
-            s.gate2.array() *= s.w.array().inverse().min(max_scale2);
-            break;
-        }
-        case PowerWeighting::kLinear: {
-            const double p_max = s.w.maxCoeff();
-            s.w = ((s.w.array() - p_max) * (std::log(10.0) / 10.0)).exp();
-            break;
-        }
-        case PowerWeighting::kDecibel:
-            s.w = (s.w.array() - config.decibel_floor_db).max(0.0);
-            break;
-    }
-    const double w_max = n > 0 ? s.w.maxCoeff() : 0.0;
-    if (w_max > 0.0) s.w /= w_max;
-}
 
 // The pre-filter's per-point arithmetic for every point, in place: row i of s.A = d_i (or NaNs),
 // b_i = -doppler_i, w_i = power_i, keep_i = 1 where the range, power and finiteness checks pass.
@@ -133,17 +99,6 @@ void BuildSystem(const EgoVelocityConfig &config, const RadarScan &scan, interna
     ws.used_to_input.resize(n);
 }
 
-// Inflation of the covariance of an estimate refit on the points inside a hard +-k sigma gate.
-// Rejecting by residual makes the estimator a "skipped mean" with psi(z) = z 1{|z| < k}; its
-// asymptotic variance is sigma^2 E[psi^2] / E[psi']^2 with E[psi^2] = E[psi'] = P - 2 k phi(k),
-// P = P(|z| < k), while eq. (6) on the inliers estimates sigma^2 (P - 2 k phi(k)) / P^2.
-// The ratio (P / (P - 2 k phi(k)))^2 is 1.056 for k = 3 (measured: NEES 3.2 instead of 3).
-double GateConsistencyFactor(double k) {
-    const double P = std::erf(k / std::sqrt(2.0));
-    const double m2 = P - 2.0 * k * std::exp(-0.5 * k * k) / std::sqrt(2.0 * M_PI);
-    return m2 > 0.0 ? (P / m2) * (P / m2) : 1.0;
-}
-
 // Covariance of v (eq. 6 or the sandwich form) on the inliers; residuals in ws.residual.
 Eigen::Matrix3d Covariance(const EgoVelocityConfig &config, internal::Workspace &ws,
                            const Eigen::Matrix3d &AtWA, int inliers, double &residual_sigma) {
@@ -155,8 +110,9 @@ Eigen::Matrix3d Covariance(const EgoVelocityConfig &config, internal::Workspace 
     double rWr = 0.0;
     const Eigen::Matrix3d meat = internal::ResidualMoments(s, ws.weighted, ws.residual, rWr).AtWA();
     residual_sigma = std::sqrt(rWr / dof);
-    const double gate_factor =
-        config.method == RobustMethod::kRansac ? GateConsistencyFactor(config.gate_sigmas) : 1.0;
+    const double gate_factor = config.method == RobustMethod::kRansac
+                                   ? internal::GateConsistencyFactor(config.gate_sigmas)
+                                   : 1.0;
     if (config.covariance == CovarianceModel::kResidualScaled)
         return gate_factor * rWr / dof * H_inv;
     // Sandwich: H^-1 (sum (w_i r_i)^2 d_i d_i^T) H^-1, small-sample factor N / (N - 3).
@@ -278,7 +234,7 @@ EgoVelocityResult EgoVelocityEstimator::EstimateWithin(
             std::to_string(n) + " < min_points " + std::to_string(config_.min_points);
         return result;
     }
-    AssignWeightsAndGates(config_, scan_radar, ws);
+    internal::AssignWeightsAndGates(config_, scan_radar.has_power, ws.system.w, ws.system.gate2);
     if (!(ws.system.w.maxCoeff() > 0.0)) {
         result.failure = EgoVelocityFailure::kZeroWeight;
         return result;
@@ -354,7 +310,7 @@ EgoVelocityResult EgoVelocityEstimator::EstimateWithin(
     if (eiv) {
         const double rWr = (ws.weighted.array() * ws.residual.array().square()).sum();
         result.residual_sigma_mps = std::sqrt(rWr / std::max(result.inliers - 3, 1));
-        result.cov_v_radar = GateConsistencyFactor(config_.gate_sigmas) * cov_eiv;
+        result.cov_v_radar = internal::GateConsistencyFactor(config_.gate_sigmas) * cov_eiv;
     } else {
         result.cov_v_radar =
             Covariance(config_, ws, AtWA, result.inliers, result.residual_sigma_mps);

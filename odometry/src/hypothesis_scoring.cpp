@@ -23,16 +23,20 @@ using simd::Sum;
 using simd::Vec4;
 static_assert(ScoringSet::kLanes == simd::kLanes, "one vector per group of points");
 
-// Writes point `from` of s at row k, or a padding point that no hypothesis can make an inlier
-// (gate^2 < 0) when from < 0.
-void Put(ScoringSet &set, std::size_t k, const DopplerSystem &s, Eigen::Index from) {
-    const bool pad = from < 0;
-    set.x[k] = pad ? 0.0 : s.A(from, 0);
-    set.y[k] = pad ? 0.0 : s.A(from, 1);
-    set.z[k] = pad ? 0.0 : s.A(from, 2);
-    set.b[k] = pad ? 0.0 : s.b[from];
-    set.gate2[k] = pad ? -1.0 : s.gate2[from];
-    set.inv_gate2[k] = pad ? 0.0 : 1.0 / s.gate2[from];
+// Writes point `from` of s at row k.
+inline void Put(ScoringSet &set, std::size_t k, const DopplerSystem &s, Eigen::Index from) {
+    set.x[k] = s.A(from, 0);
+    set.y[k] = s.A(from, 1);
+    set.z[k] = s.A(from, 2);
+    set.b[k] = s.b[from];
+    set.gate2[k] = s.gate2[from];
+    set.inv_gate2[k] = 1.0 / s.gate2[from];
+}
+
+// Writes a padding point at row k: no hypothesis makes it an inlier (gate^2 < 0).
+inline void Pad(ScoringSet &set, std::size_t k) {
+    set.x[k] = set.y[k] = set.z[k] = set.b[k] = set.inv_gate2[k] = 0.0;
+    set.gate2[k] = -1.0;
 }
 
 Eigen::Index RoundUp(Eigen::Index n) {
@@ -58,15 +62,19 @@ void ScoringSet::Build(const DopplerSystem &s, Eigen::Index check_points) {
     const auto size = static_cast<std::size_t>(cell_begin[cells]);
     for (auto *column : {&x, &y, &z, &b, &gate2, &inv_gate2}) column->resize(size);
     // The bail-out sample: the first points of the shuffled subset, in their order.
-    for (Eigen::Index i = 0; i < check_end; ++i)
-        Put(*this, static_cast<std::size_t>(i), s, i < check_points ? i : -1);
+    for (Eigen::Index i = 0; i < check_end; ++i) {
+        if (i < check_points)
+            Put(*this, static_cast<std::size_t>(i), s, i);
+        else
+            Pad(*this, static_cast<std::size_t>(i));
+    }
     // Then every point of the subset, grouped by cell, each cell padded.
     for (std::size_t c = 0; c < cells; ++c) order_next[c] = cell_begin[c];
     for (Eigen::Index i = 0; i < m; ++i)
         Put(*this, static_cast<std::size_t>(order_next[s.cell[i]]++), s, i);
     for (std::size_t c = 0; c < cells; ++c)
         for (auto k = order_next[c]; k < cell_begin[c + 1]; ++k)
-            Put(*this, static_cast<std::size_t>(k), s, -1);
+            Pad(*this, static_cast<std::size_t>(k));
 }
 
 DORADO_SIMD_CLONES int CountInliers(const ScoringSet &set, const double *v) {

@@ -100,7 +100,7 @@ Track Sample(const std::vector<StampedRadarVelocity> &velocities, const Strapdow
 // Calls pair(i, j) for every comparison window with motion.
 template <typename Pair>
 void ForEachWindow(const Track &track, const InertialCheckConfig &config, Pair pair) {
-    const auto window_ns = static_cast<int64_t>(config.window_s * 1e9);
+    const auto window_ns = SecondsToNanos(config.window_s);
     std::size_t j = 0;
     for (std::size_t i = 0; i < track.stamp_ns.size(); ++i) {
         j = std::max(j, i + 1);
@@ -169,7 +169,7 @@ InertialCheck CompareWithImu(const std::vector<StampedRadarVelocity> &velocities
             "be > 0, max_time_offset_s >= 0");
     if (imu.size() < 2) throw std::invalid_argument("inertial check: fewer than 2 IMU samples");
     InertialCheck check;
-    const auto rest_end = imu.front().stamp_ns + static_cast<int64_t>(config.rest_s * 1e9);
+    const auto rest_end = imu.front().stamp_ns + SecondsToNanos(config.rest_s);
     int rest = 0;
     for (const auto &sample : imu) {
         if (sample.stamp_ns > rest_end) break;
@@ -201,8 +201,8 @@ InertialCheck CompareWithImu(const std::vector<StampedRadarVelocity> &velocities
     for (int i = -steps; i <= steps; ++i) {
         if (i == 0) continue;
         const double offset_s = i * config.time_offset_step_s;
-        const InertialFit fit = Fit(
-            Sample(velocities, s, extrinsics, sign, static_cast<int64_t>(offset_s * 1e9)), config);
+        const InertialFit fit =
+            Fit(Sample(velocities, s, extrinsics, sign, SecondsToNanos(offset_s)), config);
         if (fit.windows > 0 && !(fit.rms_residual_mps >= check.at_best_offset.rms_residual_mps)) {
             check.at_best_offset = fit;
             check.best_time_offset_s = offset_s;

@@ -11,6 +11,7 @@
 
 #include "dorado/core/angles.hpp"
 #include "validity.hpp"
+#include "weights_and_gates.hpp"
 
 namespace dorado::odometry {
 namespace {
@@ -50,37 +51,6 @@ PlanarSystem BuildSystem(const EgoVelocityConfig &c, const RadarScan &scan,
         labels[i] = PointLabel::kDynamic;  // until proven static
     }
     return s;
-}
-
-// eq. (2) weights from power (largest 1) and each point's inlier gate, as the 3-D estimator's.
-void AssignWeightsAndGates(const EgoVelocityConfig &c, const RadarScan &scan, PlanarSystem &s) {
-    const double gate = c.gate_sigmas * c.doppler_sigma_mps;
-    s.gate2.assign(s.size(), gate * gate);
-    if (!c.use_power || !scan.has_power) {
-        std::fill(s.w.begin(), s.w.end(), 1.0);
-        return;
-    }
-    const double ln10_10 = std::log(10.0) / 10.0;
-    const double p_max = s.w.empty() ? 0.0 : *std::max_element(s.w.begin(), s.w.end());
-    for (std::size_t i = 0; i < s.size(); ++i) {
-        double &w = s.w[i];  // the power [dB] on entry
-        switch (c.power_weighting) {
-            case PowerWeighting::kSnr:
-                // sigma_i^2 = sigma^2 (1 + 10^((ref - p_i)/10)), w_i = sigma^2 / sigma_i^2
-                w = 1.0 / (1.0 + std::exp((c.snr_reference_db - w) * ln10_10));
-                s.gate2[i] *= std::min(1.0 / w, c.max_gate_scale * c.max_gate_scale);
-                break;
-            case PowerWeighting::kLinear:
-                w = std::exp((w - p_max) * ln10_10);
-                break;
-            case PowerWeighting::kDecibel:
-                w = std::max(w - c.decibel_floor_db, 0.0);
-                break;
-        }
-    }
-    const double w_max = s.w.empty() ? 0.0 : *std::max_element(s.w.begin(), s.w.end());
-    if (w_max > 0.0)
-        for (double &w : s.w) w /= w_max;
 }
 
 // eq. (2) on the mask: v = (sum w d d^T)^-1 sum w d b. False when the directions are parallel.
@@ -158,14 +128,6 @@ bool Ransac(const EgoVelocityConfig &c, const PlanarSystem &s, std::vector<char>
     return true;
 }
 
-// (P / (P - 2 k phi(k)))^2: the variance inflation of a refit inside a hard +-k sigma gate (the
-// 3-D estimator's factor, ego_velocity.cpp).
-double GateConsistencyFactor(double k) {
-    const double P = std::erf(k / std::sqrt(2.0));
-    const double m2 = P - 2.0 * k * std::exp(-0.5 * k * k) / std::sqrt(2.0 * M_PI);
-    return m2 > 0.0 ? (P / m2) * (P / m2) : 1.0;
-}
-
 }  // namespace
 
 bool IsPlanarScan(const RadarScan &scan_radar) {
@@ -193,7 +155,11 @@ EgoVelocityResult PlanarEgoVelocityEstimator::Estimate(const RadarScan &scan_rad
         result.failure_detail = std::to_string(n) + " < min_points " + std::to_string(c.min_points);
         return result;
     }
-    AssignWeightsAndGates(c, scan_radar, s);
+    s.gate2.resize(s.size());
+    internal::AssignWeightsAndGates(
+        c, scan_radar.has_power,
+        Eigen::Map<Eigen::VectorXd>(s.w.data(), static_cast<Eigen::Index>(s.size())),
+        Eigen::Map<Eigen::VectorXd>(s.gate2.data(), static_cast<Eigen::Index>(s.size())));
     std::vector<char> mask(s.size(), 1);
     bool solved = true;
     if (c.method == RobustMethod::kNone)
@@ -221,7 +187,7 @@ EgoVelocityResult PlanarEgoVelocityEstimator::Estimate(const RadarScan &scan_rad
     const double dof = std::max(result.inliers - 2, 1);
     const Eigen::Matrix2d H_inv = H.inverse();
     const double gate_factor =
-        c.method == RobustMethod::kNone ? 1.0 : GateConsistencyFactor(c.gate_sigmas);
+        c.method == RobustMethod::kNone ? 1.0 : internal::GateConsistencyFactor(c.gate_sigmas);
     // eq. (6) in 2-D, or the sandwich form (honest whatever the weights).
     const Eigen::Matrix2d cov =
         c.covariance == CovarianceModel::kResidualScaled

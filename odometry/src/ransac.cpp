@@ -2,7 +2,7 @@
 // data needs: the winning model is refit on its inliers (LO-RANSAC), hypotheses are scored by the
 // spread of their inliers over directions (a crowd moving together cannot outvote the static
 // world that surrounds the sensor), and the inlier gate follows each point's Doppler noise.
-#include <Eigen/LU>
+#include <Eigen/LU>  // determinant()
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -25,7 +25,7 @@ bool SolveMinimal(const DopplerSystem &s, Eigen::Index i, Eigen::Index j, Eigen:
     M.row(1) = s.A.row(j);
     M.row(2) = s.A.row(k);
     if (std::abs(M.determinant()) < kMinSampleVolume) return false;
-    v = M.partialPivLu().solve(Eigen::Vector3d(s.b[i], s.b[j], s.b[k]));
+    v = SolvePartialPivot3(M, Eigen::Vector3d(s.b[i], s.b[j], s.b[k]));
     return v.allFinite();
 }
 
@@ -131,6 +131,35 @@ int RequiredIterations(double inlier_ratio, double success_probability) {
 }
 
 }  // namespace
+
+Eigen::Vector3d SolvePartialPivot3(Eigen::Matrix3d M, Eigen::Vector3d r) {
+    // Gaussian elimination with partial pivoting in Eigen's order (PartialPivLU's unblocked_lu:
+    // the first largest |pivot|, the column divided by it, the rank-1 update; the last pivot
+    // taken as it is), the row swaps applied to r as they happen (P r).
+    for (int k = 0; k < 2; ++k) {
+        int pivot = k;
+        for (int i = k + 1; i < 3; ++i)
+            if (std::abs(M(i, k)) > std::abs(M(pivot, k))) pivot = i;
+        if (M(pivot, k) != 0.0) {
+            if (pivot != k) {
+                M.row(k).swap(M.row(pivot));
+                std::swap(r[k], r[pivot]);
+            }
+            for (int i = k + 1; i < 3; ++i) M(i, k) /= M(k, k);
+        }
+        for (int j = k + 1; j < 3; ++j)
+            for (int i = k + 1; i < 3; ++i) M(i, j) -= M(i, k) * M(k, j);
+    }
+    // L y = P r (unit lower), then U x = y, each row's sum in Eigen's order.
+    r[1] -= M(1, 0) * r[0];
+    r[2] -= M(2, 0) * r[0] + M(2, 1) * r[1];
+    r[2] /= M(2, 2);
+    r[1] -= M(1, 2) * r[2];
+    r[1] /= M(1, 1);
+    r[0] -= M(0, 1) * r[1] + M(0, 2) * r[2];
+    r[0] /= M(0, 0);
+    return r;
+}
 
 bool Ransac(const EgoVelocityConfig &config, Workspace &ws, Eigen::Vector3d &v, int &iterations,
             const std::optional<VelocityPrediction> &ball) {

@@ -122,6 +122,10 @@ int ClassifyAndAccumulate(DopplerSystem &system, const Eigen::Vector3d &v,
                           Eigen::VectorXd &residual, Eigen::VectorXd &mask,
                           Eigen::VectorXd &weighted, NormalEquations &equations);
 
+/// x with M x = r, bit for bit as Eigen's PartialPivLU<Matrix3d>(M).solve(r) gives it (the same
+/// pivots, operations and roundings) without its bookkeeping (the L1 norm, the permutation).
+[[nodiscard]] Eigen::Vector3d SolvePartialPivot3(Eigen::Matrix3d M, Eigen::Vector3d r);
+
 /// The 3-point model with aliased Doppler (alias_span > 0): the best of the 27 wraps of the
 /// sample (alias_hypotheses.cpp). False for a degenerate sample or no wrap below max_speed_mps.
 bool SolveMinimalAliased(const DopplerSystem &s, Eigen::Index i, Eigen::Index j, Eigen::Index k,

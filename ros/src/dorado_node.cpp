@@ -21,6 +21,7 @@ DoradoNode::DoradoNode(ros::NodeHandle &node, NodeSettings settings)
     odom_pub_ = node.advertise<nav_msgs::Odometry>("/doppler_odom", 100);
     if (settings_.front_end.run_mapper) {
         map_odom_pub_ = node.advertise<nav_msgs::Odometry>("/dorado/map_odom", 100);
+        smoothed_odom_pub_ = node.advertise<nav_msgs::Odometry>("/dorado/smoothed_odom", 100);
         static_pub_ = node.advertise<sensor_msgs::PointCloud2>("/dorado/static_points", 5);
         dynamic_pub_ = node.advertise<sensor_msgs::PointCloud2>("/dorado/dynamic_points", 5);
         local_map_pub_ = node.advertise<sensor_msgs::PointCloud2>("/dorado/local_map", 1, true);
@@ -136,7 +137,7 @@ void DoradoNode::Handle(const Pending &pending) {
             "dorado_ros: %.2f s without a scan on %s (max_gap_s %.2f): starting over at the "
             "last pose (a new map, no prior)",
             stamps_.last_interval_s(), settings_.input_topic.c_str(), settings_.gaps.max_gap_s);
-        front_end_.Reset(T_world_base);
+        PublishWritten(front_end_.Reset(T_world_base));
     } else if (gap == GapVerdict::kIntegrate &&
                warnings_.Count("gap integrated over", std::to_string(stamps_.last_interval_s()))) {
         ROS_WARN(

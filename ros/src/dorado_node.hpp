@@ -17,6 +17,7 @@
 #include <mutex>
 #include <thread>
 
+#include "dorado/core/time.hpp"
 #include "dorado/frontend/radar_front_end.hpp"
 #include "live_input.hpp"
 #include "node_settings.hpp"
@@ -41,7 +42,6 @@ class DoradoNode {
     void Shutdown();
 
   private:
-    using Clock = std::chrono::steady_clock;
     struct Pending {
         sensor_msgs::PointCloud2ConstPtr msg;
         Clock::time_point arrival;
@@ -54,6 +54,9 @@ class DoradoNode {
     bool Decode(const sensor_msgs::PointCloud2 &msg, RadarScan &scan);
     bool FeedImu(int64_t stamp_ns);
     void WatchImu(bool imu_current, int64_t stamp_ns);
+    /// The mapper's written poses (smoothed, about mapper.smoother.lag_s old) on
+    /// /dorado/smoothed_odom, each at its own scan's stamp.
+    void PublishWritten(const std::vector<mapping::WrittenPose> &written);
     void Publish(const std_msgs::Header &header, const RadarScan &scan,
                  const frontend::FrontEndResult &result);
     void ReportPrior(const frontend::FrontEndResult &result);
@@ -71,7 +74,8 @@ class DoradoNode {
     Eigen::Isometry3d T_world_base_initial_;
 
     ros::Subscriber cloud_sub_, imu_sub_;
-    ros::Publisher odom_pub_, map_odom_pub_, static_pub_, dynamic_pub_, local_map_pub_;
+    ros::Publisher odom_pub_, map_odom_pub_, smoothed_odom_pub_, static_pub_, dynamic_pub_,
+        local_map_pub_;
     tf2_ros::TransformBroadcaster tf_broadcaster_;
 
     std::mutex mutex_;

@@ -41,6 +41,21 @@ Matrix6d MapPoseCovariance(const Eigen::Isometry3d &T_map_base,
     return J * C_base * J.transpose();
 }
 
+void DoradoNode::PublishWritten(const std::vector<mapping::WrittenPose> &written) {
+    if (!settings_.front_end.run_mapper) return;
+    for (const mapping::WrittenPose &w : written) {
+        nav_msgs::Odometry odom;
+        odom.header.stamp.fromNSec(static_cast<uint64_t>(w.stamp_ns));
+        odom.header.frame_id = settings_.map_frame;
+        odom.child_frame_id = settings_.tf_to_frame;
+        // The covariance is the written motion's from the previous written pose (covariance.md).
+        FillOdometry(w.T_world_base * settings_.T_base_child,
+                     MapPoseCovariance(w.T_world_base, settings_.T_base_child, w.covariance),
+                     Twist{}, odom);
+        smoothed_odom_pub_.publish(odom);
+    }
+}
+
 void DoradoNode::Publish(const std_msgs::Header &header, const RadarScan &scan,
                          const frontend::FrontEndResult &result) {
     std_msgs::Header odom_header = header;
@@ -60,8 +75,9 @@ void DoradoNode::Publish(const std_msgs::Header &header, const RadarScan &scan,
     ++published_;
     if (!settings_.front_end.run_mapper) return;
 
-    // The mapper's pose in the map frame, with its covariance (given the map, see
-    // mapping::RegistrationResult::covariance), and map -> odom = T_map_base T_odom_base^-1.
+    // The mapper's newest (filtered) pose in the map frame, with its covariance (given the map,
+    // see mapping::RegistrationResult::covariance), and map -> odom = T_map_base T_odom_base^-1.
+    PublishWritten(result.registration.written);
     std_msgs::Header map_header = header;
     map_header.frame_id = settings_.map_frame;
     const Eigen::Isometry3d &T_map_base = result.T_world_base;

@@ -31,7 +31,8 @@ void WriteTrueTwists(const std::string &path, const std::vector<TrueTwist> &twis
         out << std::setprecision(12);
         for (const auto &tw : twists) {
             out << StampSeconds(tw.stamp_ns);
-            for (const auto *v : {&tw.v_base, &tw.omega_base, &tw.v_radar}) {
+            for (const auto *v :
+                 {&tw.twist_base.v_base_mps, &tw.twist_base.omega_base_radps, &tw.v_radar}) {
                 out << ',' << v->x() << ',' << v->y() << ',' << v->z();
             }
             out << '\n';

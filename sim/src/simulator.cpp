@@ -111,7 +111,7 @@ SimulationResult Simulate(const SequenceConfig &config, const std::string &bag_p
                 radar.Measure(t, T_world_radar, T_world_base.linear() * v_radar_base, rng);
             sim.scan.stamp_ns = stamp_ns;
             bag.WriteRadar(topics.radar, sim.scan);
-            result.twists.push_back({stamp_ns, twist.v_base_mps, twist.omega_base_radps, v_radar});
+            result.twists.push_back({stamp_ns, twist, v_radar});
 
             const std::size_t n = sim.source.size();
             std::size_t moving_here = 0;

@@ -33,8 +33,11 @@ TEST(DatasetFields, EveryMemberIsAField) {
                   config, {&config.config_path, &config.path_base, &config.path_base_dir,
                            &config.inputs, &config.radars}),
               std::vector<std::string>{});
+    // The data sets' own readers fill these from their files: no key.
     RadarStream radar;
-    EXPECT_EQ(testing::MembersWithoutField(radar, {}), std::vector<std::string>{});
+    EXPECT_EQ(testing::MembersWithoutField(radar,
+                                           {&radar.radarscenes_sensor_id, &radar.nuscenes_channel}),
+              std::vector<std::string>{});
 }
 
 // The perturbed description for @p reader, mended where the reader's checks would refuse it.

@@ -59,7 +59,7 @@ TEST_F(DatasetConfigTest, EveryShippedDescriptionLoads) {
 
 // The native readers' shipped descriptions (configs/native/) point at a data set's own download,
 // which is not in the repository: every key is read, and the load stops at the missing data with
-// the file it looked for (the mount's table), not at a key.
+// the file it looked for (the table that lists the radars), not at a key.
 TEST_F(DatasetConfigTest, NativeDescriptionsReadEveryKeyAndNameTheMissingData) {
     const fs::path native = fs::path(DORADO_SOURCE_DIR) / "configs" / "native";
     for (const auto &[file, missing] :

@@ -317,9 +317,14 @@ TEST_F(FolderReaderTest, RadarsAreMergedInTimeOrderAndAnotherClockIsRefused) {
     write_radar("front", {0.10, 0.20, 0.30});
     write_radar("left", {0.05, 0.15, 0.25, 0.35});
     DatasetConfig config = ColumnsConfig(4);
-    for (const std::string name : {"front", "left"})
-        config.radars.push_back({name, (dir_ / name).string(), (dir_ / (name + ".txt")).string(),
-                                 Eigen::Isometry3d::Identity()});
+    const auto radar = [&](const std::string &name) {
+        RadarStream r;
+        r.name = name;
+        r.scans_dir = (dir_ / name).string();
+        r.timestamps_file = (dir_ / (name + ".txt")).string();
+        return r;
+    };
+    for (const std::string name : {"front", "left"}) config.radars.push_back(radar(name));
     config.folder.scans_dir = config.radars[0].scans_dir;
     config.folder.timestamps_file = config.radars[0].timestamps_file;
     auto reader = OpenRadars(config);
@@ -335,8 +340,7 @@ TEST_F(FolderReaderTest, RadarsAreMergedInTimeOrderAndAnotherClockIsRefused) {
     EXPECT_EQ(order, expected);
 
     write_radar("late", {1000.0, 1000.1});  // seconds since boot beside 0.1 s: another clock
-    config.radars.push_back({"late", (dir_ / "late").string(), (dir_ / "late.txt").string(),
-                             Eigen::Isometry3d::Identity()});
+    config.radars.push_back(radar("late"));
     try {
         (void)OpenRadars(config);
         FAIL() << "a radar on another clock was merged";

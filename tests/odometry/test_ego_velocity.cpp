@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <cstdio>
+#include <cstring>
 #include <iterator>
 #include <set>
 #include <string>
@@ -11,6 +13,7 @@
 #include "dorado/core/angles.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
 #include "dorado/testing/doppler_scan.hpp"
+#include "robust_fit.hpp"
 
 namespace dorado::odometry {
 namespace {
@@ -415,6 +418,30 @@ TEST(EgoVelocity, ConfigErrorsNameTheField) {
     c = EgoVelocityConfig{};
     c.ransac_bailout_points = -1;
     EXPECT_THROW(EgoVelocityEstimator{c}, std::invalid_argument);
+}
+
+// RANSAC's minimal solve against Eigen's PartialPivLU, bit for bit: random unit directions (as
+// eq. (1)'s rows are), rows of equal magnitude (pivot ties), nearly dependent and exact-zero
+// pivots.
+TEST(EgoVelocity, MinimalSolveEqualsEigensPartialPivLuBitForBit) {
+    std::mt19937_64 rng(3);
+    std::normal_distribution<double> g(0.0, 1.0);
+    int compared = 0;
+    for (int trial = 0; trial < 200000; ++trial) {
+        Eigen::Matrix3d M;
+        for (int i = 0; i < 3; ++i) M.row(i) = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+        if (trial % 5 == 1) M(1, 0) = -M(0, 0);                     // a tie for the first pivot
+        if (trial % 5 == 2) M.row(2) = M.row(0) + 1e-6 * M.row(1);  // nearly dependent
+        if (trial % 5 == 3) M(0, 0) = M(1, 0) = M(2, 0) = 0.0;      // a zero column
+        const Eigen::Vector3d r(g(rng), g(rng), g(rng));
+        const Eigen::Vector3d expected = M.partialPivLu().solve(r);
+        const Eigen::Vector3d got = internal::SolvePartialPivot3(M, r);
+        if (!expected.allFinite()) continue;
+        ++compared;
+        ASSERT_EQ(std::memcmp(expected.data(), got.data(), sizeof(double) * 3), 0)
+            << "trial " << trial << ": " << got.transpose() << " vs " << expected.transpose();
+    }
+    EXPECT_GT(compared, 150000);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "dorado/core/lie.hpp"
 #include "dorado/odometry/doppler_odometry.hpp"
 #include "dorado/odometry/ground_plane.hpp"
+#include "plane_inliers.hpp"
 
 namespace dorado::odometry {
 namespace {
@@ -350,6 +351,41 @@ TEST(GroundPlane, FirstGroundObservationSetsRollAndPitch) {
     const Eigen::Vector3d rpy = RollPitchYaw(step.T_world_base.linear());
     EXPECT_LT(rpy.head<2>().norm(), 0.3 * kDeg);  // level with the road
     EXPECT_NEAR(rpy.z(), 0.5, 1e-9);              // yaw kept
+}
+
+// The vectorised RANSAC count against a plain loop over the distance as written out, point for
+// point: random planes within the tilt gate, 0 to 13 points (padding), many of them placed at the
+// inlier threshold where one rounding decides.
+TEST(GroundPlane, VectorisedInlierCountEqualsAScalarLoop) {
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const double threshold = 0.15;
+    int on_threshold_counted = 0, on_threshold_refused = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const Eigen::Vector3d theta(-0.3 + 0.2 * u(rng), 0.2 * u(rng), 0.2 * u(rng));
+        const double norm = std::sqrt(1.0 + theta.tail<2>().squaredNorm());
+        internal::PlanePoints points;
+        int expected = 0;
+        const int n = trial % 14;
+        for (int i = 0; i < n; ++i) {
+            const double x = 15.0 * u(rng), y = 15.0 * u(rng);
+            const double on_plane = theta.dot(Eigen::Vector3d(1.0, x, y));
+            const double z = i % 2 == 0 ? on_plane + 0.3 * u(rng)
+                                        : on_plane + (u(rng) < 0.0 ? -1.0 : 1.0) * threshold * norm;
+            points.Add(x, y, z);
+            const bool inlier =
+                std::abs((z - theta.dot(Eigen::Vector3d(1.0, x, y))) / norm) < threshold;
+            expected += inlier;
+            if (i % 2 == 1) (inlier ? on_threshold_counted : on_threshold_refused)++;
+        }
+        points.Pad();
+        ASSERT_EQ(points.x.size() % internal::PlanePoints::kLanes, 0U);
+        ASSERT_EQ(internal::CountPlaneInliers(points, theta, threshold), expected)
+            << "trial " << trial;
+    }
+    // The points at the threshold fall on both sides: the roundings are exercised.
+    EXPECT_GT(on_threshold_counted, 100);
+    EXPECT_GT(on_threshold_refused, 100);
 }
 
 }  // namespace

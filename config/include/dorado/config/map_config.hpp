@@ -39,8 +39,5 @@ void VisitFields(MapCommandConfig &c, Visitor &&v) {
 /// mapping::ParsePriorKind, throwing io::ConfigError naming `what` (a key or a flag).
 [[nodiscard]] mapping::PriorKind ParsePriorKindKey(const std::string &text,
                                                    const std::string &what);
-/// mapping::ParseRefinement, throwing io::ConfigError naming `what`.
-[[nodiscard]] mapping::Refinement ParseRefinementKey(const std::string &text,
-                                                     const std::string &what);
 
 }  // namespace dorado::config

@@ -17,10 +17,12 @@ constexpr int64_t kNanosPerSecond = 1'000'000'000;
     return std::llround(s * 1e9);
 }
 
+/// The clock of every wall-time measurement (stage timings, latencies, run times).
+using Clock = std::chrono::steady_clock;
+
 /// Wall time since @p start [ms]: the per-stage timings of the mapper, the front end and the node.
-[[nodiscard]] inline double MillisecondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-        .count();
+[[nodiscard]] inline double MillisecondsSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
 }  // namespace dorado

@@ -64,7 +64,11 @@ class MultiRadarFrontEnd {
     /// throws std::out_of_range for a radar index beyond the list.
     RadarScanStep Process(std::size_t radar, const RadarScan &scan_radar);
 
-    /// One pose per closed sweep (T_world_base at the reference radar's stamps).
+    /// The end of the drive: the sweeps' poses still in the mapper's smoother, written (and
+    /// appended to trajectory()). No Process after it.
+    std::vector<mapping::WrittenPose> Finish();
+    /// One written (smoothed) pose per closed sweep, at the reference radar's stamps, about
+    /// mapper.smoother.lag_s behind the newest sweep until Finish.
     [[nodiscard]] const Trajectory &trajectory() const;
     [[nodiscard]] std::size_t radars() const;
     /// The twist filter: the twist now, and each radar's mount as calibrated so far.

@@ -85,7 +85,8 @@ struct FrontEndResult {
     std::string skip_reason;
     double dt_s = 0.0;  ///< time since the previous accepted scan (0 for the first)
 
-    /// The best pose: the mapper's when it runs, the odometry's otherwise.
+    /// The newest pose: the mapper's filtered estimate when it runs (its smoothed, written poses
+    /// are registration.written), the odometry's otherwise.
     Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
     /// The Doppler odometry's own dead-reckoned pose (the paper's node publishes this one).
     Eigen::Isometry3d T_world_base_odometry = Eigen::Isometry3d::Identity();
@@ -164,10 +165,16 @@ class RadarFrontEnd {
     /// construction or at the last Reset.
     void SetPrior(mapping::PriorKind prior);
 
-    /// Starts over at T_world_base: the next scan is a first scan (a new map, no prior).
-    void Reset(const Eigen::Isometry3d &T_world_base = Eigen::Isometry3d::Identity());
+    /// Starts over at T_world_base: the next scan is a first scan (a new map, no prior). The
+    /// poses still in the old map's smoother are written first (and returned).
+    std::vector<mapping::WrittenPose> Reset(
+        const Eigen::Isometry3d &T_world_base = Eigen::Isometry3d::Identity());
+    /// The end of the drive: the poses still in the mapper's smoother, written (and appended to
+    /// trajectory()); none without the mapper. No Process after it but a Reset.
+    std::vector<mapping::WrittenPose> Finish();
 
-    /// One pose per accepted scan (the best pose, as FrontEndResult::T_world_base).
+    /// One pose per accepted scan as written: the mapper's smoothed poses (about
+    /// mapper.smoother.lag_s behind the newest scan until Finish), the odometry's without it.
     [[nodiscard]] const Trajectory &trajectory() const;
     /// The mapper's local map (nullptr when the mapper is off).
     [[nodiscard]] const mapping::LocalMap *local_map() const;

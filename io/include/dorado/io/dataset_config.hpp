@@ -48,35 +48,51 @@ struct FolderSource {
     std::vector<std::string> columns;
 };
 
-/// RadarScenes (radar-scenes.com): one sequence, the scans of one of its four radars. Points from
-/// range_sc, azimuth_sc (z = 0), Doppler from vr (raw), power from rcs; times = timestamp [us].
-/// The mount is sensors.json's unless extrinsics.T_base_radar is given; the reference trajectory is
-/// the h5 file's `odometry` (x_seq, y_seq, yaw_seq) unless ground_truth.path is given.
+/// RadarScenes (radar-scenes.com): one sequence, the scans of its four radars (or of one). Points
+/// from range_sc, azimuth_sc (z = 0), Doppler from vr (raw), power from rcs; times = timestamp
+/// [us]. The mounts are sensors.json's (extrinsics.T_base_radar, when given, the one radar's); the
+/// reference trajectory is the h5 file's `odometry` (x_seq, y_seq, yaw_seq) unless
+/// ground_truth.path is given. With sensor_id 0 every radar of sensors.json is in `radars:`
+/// (radar_1 ... radar_4).
 struct RadarScenesSource {
     std::string sequence_dir;  ///< holds radar_data.h5 and scenes.json; sensors.json here or above
-    int sensor_id = 0;         ///< 1..4: the radar whose scans are read
+    int sensor_id = 0;         ///< 1..4: that radar alone; 0: every radar
 };
 
-/// nuScenes: one scene's sweeps of one radar channel (binary PCD v0.7), indexed by the JSON tables
-/// (scene, sample, sample_data, sensor, calibrated_sensor, ego_pose). Doppler = (x vx + y vy) /
-/// hypot(x, y) from the uncompensated vx, vy; power from rcs. The mount is calibrated_sensor's
-/// unless extrinsics.T_base_radar is given; the reference trajectory is the scene's ego poses.
+/// nuScenes: one scene's sweeps of its radar channels (or of one), binary PCD v0.7, indexed by the
+/// JSON tables (scene, sample, sample_data, sensor, calibrated_sensor, ego_pose). Doppler = (x vx +
+/// y vy) / hypot(x, y) from the uncompensated vx, vy; power from rcs. The mounts are
+/// calibrated_sensor's (extrinsics.T_base_radar, when given, the one radar's); the reference
+/// trajectory is the scene's ego poses; the IMU is DATAROOT/can_bus/SCENE_ms_imu.json (the CAN bus
+/// expansion) when imu.path is not given and that file exists. With channel empty every RADAR_*
+/// channel of the scene is in `radars:`, named by its channel.
 struct NuScenesSource {
     std::string dataroot;  ///< holds samples/ and sweeps/ (sample_data.filename is relative to it)
     std::string version;   ///< the folder of the JSON tables under dataroot, e.g. v1.0-mini
     std::string scene;     ///< the scene's name, e.g. scene-0061
-    std::string channel;   ///< the radar's channel, e.g. RADAR_FRONT
+    std::string channel;   ///< one radar's channel, e.g. RADAR_FRONT; empty: every radar
 };
 
 /// One of several radars on the vehicle (the `radars:` list, reader folder): its scan files, laid
 /// out as `folder:` says (extension, columns), and its mount. Read by `dorado twist` (the joint
 /// twist of every radar's Doppler); `folder:` and `extrinsics:` stay the single radar that
-/// `dorado odometry` and `dorado map` read.
+/// `dorado odometry` and `dorado map` read. Readers radarscenes and nuscenes fill the list from the
+/// data set's own files (never from YAML): each radar's sensor_id or channel, and its mount.
 struct RadarStream {
     std::string name;             ///< for messages and reports, e.g. "front"
     std::string scans_dir;        ///< as folder.scans_dir
     std::string timestamps_file;  ///< as folder.timestamps_file
     Eigen::Isometry3d T_base_radar = Eigen::Isometry3d::Identity();
+    int radarscenes_sensor_id = 0;  ///< reader radarscenes: the radar's sensor_id (not a key)
+    std::string nuscenes_channel;   ///< reader nuscenes: the radar's channel (not a key)
+};
+
+/// What the command line chooses in a data set's own layout, over the description's keys, before
+/// the data set's radars and mounts are read (`--scene`, `--sequence`). Empty: the description's.
+struct DatasetChoice {
+    std::string scene;     ///< reader nuscenes: a scene's name, e.g. scene-0103 (nuscenes.scene)
+    std::string sequence;  ///< reader radarscenes: "105" or "sequence_105", the folder beside
+                           ///< radarscenes.sequence_dir's
 };
 
 /// The IMU's samples in a file beside the scans (the `imu:` section; readers folder, radarscenes
@@ -133,17 +149,33 @@ struct DatasetConfig {
 
 /// Reads and validates a dataset description. Relative paths are taken from @p data_dir when it
 /// is given (the command line's --data DIR), else from the description's data_dir: key (itself
-/// relative to the YAML file), else from the YAML file's folder. Unknown keys (named before any
-/// missing one), wrong types and out-of-range values throw ConfigError naming file and key. The
-/// files the paths name are not opened: RequireInputs checks them.
+/// relative to the YAML file), else from the YAML file's folder. @p choice (--scene, --sequence)
+/// then replaces the description's scene or sequence: a sequence is looked for beside
+/// radarscenes.sequence_dir as resolved. Unknown keys (named before any missing one), wrong types,
+/// out-of-range values and a choice the reader has no use for throw ConfigError naming file and
+/// key. The files the paths name are not opened (but the data set's own layout files, for readers
+/// radarscenes and nuscenes): RequireInputs checks them.
 [[nodiscard]] DatasetConfig LoadDatasetConfig(const std::string &yaml_path,
-                                              const std::string &data_dir = "");
+                                              const std::string &data_dir = "",
+                                              const DatasetChoice &choice = {});
+/// Same, the paths resolved without --data.
+[[nodiscard]] inline DatasetConfig LoadDatasetConfig(const std::string &yaml_path,
+                                                     const DatasetChoice &choice) {
+    return LoadDatasetConfig(yaml_path, "", choice);
+}
 
 /// The dataset a command-line argument names: a .yaml/.yml description (relative paths taken as
-/// LoadDatasetConfig says, every input checked by RequireInputs), or a .bag read with the paper's
-/// Hugin defaults. @p data_dir: --data DIR, only for a description. Throws ConfigError.
+/// LoadDatasetConfig says, @p choice applied, every input checked by RequireInputs), or a .bag
+/// read with the paper's Hugin defaults. @p data_dir: --data DIR, only for a description. Throws
+/// ConfigError (also for a choice the reader has no use for).
 [[nodiscard]] DatasetConfig ResolveDataset(const std::string &argument,
-                                           const std::string &data_dir = "");
+                                           const std::string &data_dir = "",
+                                           const DatasetChoice &choice = {});
+/// Same, the paths resolved without --data.
+[[nodiscard]] inline DatasetConfig ResolveDataset(const std::string &argument,
+                                                  const DatasetChoice &choice) {
+    return ResolveDataset(argument, "", choice);
+}
 
 /// Throws ConfigError for the first input of @p config that does not exist, naming the
 /// description, the key, the path as written and as resolved, the folder it was taken from (and

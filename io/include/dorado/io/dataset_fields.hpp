@@ -110,15 +110,16 @@ void VisitFields(FolderSource &c, Visitor &&v) {
 template <typename Visitor>
 void VisitFields(RadarScenesSource &c, Visitor &&v) {
     v("sequence_dir", c.sequence_dir, kPath, "holds radar_data.h5 and scenes.json");
-    v("sensor_id", c.sensor_id, "1..4: the radar whose scans are read");
+    v("sensor_id", c.sensor_id, "1..4: that radar alone; 0: every radar (the radars: list)");
 }
 
 template <typename Visitor>
 void VisitFields(NuScenesSource &c, Visitor &&v) {
     v("dataroot", c.dataroot, kPath, "holds samples/ and sweeps/");
     v("version", c.version, "the JSON tables' folder under dataroot, e.g. v1.0-mini");
-    v("scene", c.scene, "the scene's name, e.g. scene-0061");
-    v("channel", c.channel, "the radar's channel, e.g. RADAR_FRONT");
+    v("scene", c.scene, "the scene's name, e.g. scene-0061 (--scene NAME reads another)");
+    v("channel", c.channel,
+      "one radar's channel, e.g. RADAR_FRONT; empty: every RADAR_* channel (the radars: list)");
 }
 
 template <typename Visitor>

@@ -14,12 +14,6 @@ inline Choices<RegistrationMethod> RegistrationMethodChoices() {
             {ToString(RegistrationMethod::kPointToPlane), RegistrationMethod::kPointToPlane},
             {ToString(RegistrationMethod::kGicp), RegistrationMethod::kGicp}};
 }
-inline Choices<Refinement> RefinementChoices() {
-    return {{ToString(Refinement::kCeres), Refinement::kCeres},
-            {ToString(Refinement::kWindow), Refinement::kWindow},
-            {ToString(Refinement::kFilter), Refinement::kFilter},
-            {ToString(Refinement::kNone), Refinement::kNone}};
-}
 inline Choices<RobustKernel> RobustKernelChoices() {
     return {{ToString(RobustKernel::kNone), RobustKernel::kNone},
             {ToString(RobustKernel::kHuber), RobustKernel::kHuber},
@@ -66,27 +60,12 @@ void VisitFields(MoverConfig &c, Visitor &&v) {
 }
 
 template <typename Visitor>
-void VisitFields(NoiseCalibrationConfig &c, Visitor &&v) {
-    v("enabled", c.enabled,
-      "scale the prior's and the registration's covariances by the innovations (covariance "
-      "matching)");
-    v("window_scans", c.window_scans, "the last scans the scales are estimated over");
-    v("min_scans", c.min_scans, "registered scans before the scales apply");
-    v("max_sample_nees", c.max_sample_nees, "a scan's whitened moment is capped at this x dof");
-    v("min_scale", c.min_scale, "lower bound of a covariance scale");
-    v("max_scale", c.max_scale, "upper bound of a covariance scale");
-}
-
-template <typename Visitor>
-void VisitFields(WindowConfig &c, Visitor &&v) {
-    v("size", c.size, "K free states (scans) of the fixed-lag smoother");
-    v("qc_linear", c.qc_linear, "white-noise-on-acceleration PSD, linear, per base axis [m^2/s^3]");
-    v("qc_angular", c.qc_angular,
-      "white-noise-on-acceleration PSD, angular, per base axis [rad^2/s^3]");
-    v("use_kinematic_model", c.use_kinematic_model, "the paper's eq. 3-4 as a soft factor");
-    v("gyro_sigma_radps", c.gyro_sigma_radps, "gyro factor: per-scan mean rate noise [rad/s]");
-    v("gyro_bias_sigma_radps", c.gyro_bias_sigma_radps, "prior on the gyro bias [rad/s]");
-    v("max_iterations", c.max_iterations, "Ceres iterations per scan");
+void VisitFields(SmootherConfig &c, Visitor &&v) {
+    v("lag_s", c.lag_s, "a pose is written (and enters the map) this long after its scan [s]");
+    v("max_registration_chi2", c.max_registration_chi2,
+      "a registration farther from the prediction (squared Mahalanobis) is down-weighted to "
+      "this distance");
+    v("max_iterations", c.max_iterations, "Gauss-Newton iterations per scan");
 }
 
 template <typename Visitor>
@@ -110,7 +89,6 @@ void VisitFields(MapperConfig &c, Visitor &&v) {
     v("min_motion_m", c.min_motion_m, "smaller corrections do not feed the adaptive threshold [m]");
     v("covariance_neighbours", c.covariance_neighbours,
       "k of the map's local planes (plane, GICP)");
-    v("refinement", c.refinement, RefinementChoices(), "the Doppler-aware refinement after PCL");
     v("kernel", c.kernel, RobustKernelChoices(),
       "robust loss of the registration and Doppler residuals");
     v("kernel_scale", c.kernel_scale, "of the robust loss, in whitened units (sigmas)");
@@ -124,33 +102,21 @@ void VisitFields(MapperConfig &c, Visitor &&v) {
       "evenly thinned matches given to Ceres");
     v("max_doppler_residuals", c.max_doppler_residuals, "Doppler residuals given to Ceres");
     v("refine_max_iterations", c.refine_max_iterations, "Ceres iterations of the refinement");
-    v("refine_outer_iterations", c.refine_outer_iterations, "re-association rounds");
     v("registration_covariance", c.registration_covariance, RegistrationCovarianceChoices(),
       "how the registration's residuals count against the prior");
     v("registration_cluster_m", c.registration_cluster_m,
       "cell of the clustered model's groups [m]");
-    VisitFields(c.noise_calibration, Prefixed{"noise_calibration.", v});
     v("registration_floor_sigma_translation_m", c.registration_floor_sigma_translation_m,
       "registration noise no residual shows, added per axis [m]");
     v("registration_floor_sigma_rotation_rad", c.registration_floor_sigma_rotation_rad,
       "registration noise no residual shows, added per axis [rad]");
     v("registration_weak_ratio", c.registration_weak_ratio,
       "degeneracy-aware registration: weak eigenvalue fraction (0: off)");
-    v("doppler_in_registration", c.doppler_in_registration,
-      "doppler priors: Doppler residuals join the registered pose's step too");
-    v("filter_builds_map", c.filter_builds_map,
-      "refinement filter: the map from the filter's poses (one chain)");
-    VisitFields(c.window, Prefixed{"window.", v});
-    v("min_correspondences", c.min_correspondences, "fewer matches: fall back to the prior");
-    v("max_rms_m", c.max_rms_m, "a larger correspondence RMS: fall back to the prior [m]");
+    VisitFields(c.smoother, Prefixed{"smoother.", v});
+    v("min_correspondences", c.min_correspondences, "fewer matches: nothing to register");
+    v("max_rms_m", c.max_rms_m, "a larger correspondence RMS: nothing to register [m]");
     v("min_observability", c.min_observability,
       "lambda_min / lambda_max of the point-to-plane information");
-    v("max_prior_mahalanobis_squared", c.max_prior_mahalanobis_squared,
-      "jump test: farther from the prior falls back");
-    v("registration_sigma_translation_m", c.registration_sigma_translation_m,
-      "jump test: registration noise [m]");
-    v("registration_sigma_rotation_rad", c.registration_sigma_rotation_rad,
-      "jump test: registration noise [rad]");
 }
 
 template <typename Visitor>

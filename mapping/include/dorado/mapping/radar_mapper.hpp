@@ -1,9 +1,12 @@
 #pragma once
 /// @file radar_mapper.hpp
-/// Radar scan-to-map registration with a motion prior (paper section IV-C), made Doppler-aware by
-/// a Ceres refinement: for each scan, downsample, register against the local map with PCL from the
-/// prior, refine the pose with registration + Doppler + prior residuals, fall back to the prior
-/// when registration is not trustworthy, and update the map.
+/// Radar scan-to-map registration with a motion prior (paper section IV-C), made Doppler-aware and
+/// smoothed: for each scan, downsample, register against the local map with PCL from the
+/// prediction, refine the registered pose with Ceres (registration, Doppler and prior residuals),
+/// then one estimator, a fixed-lag smoother (pose_smoother.hpp), weighs the motion prior, the
+/// registration (robustly, by its information) and the ground over the last second of scans. A
+/// pose leaves the smoother smoothed: it is the pose written and the one its scan enters the map
+/// at (one chain).
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -17,25 +20,11 @@
 #include "dorado/mapping/measurements.hpp"
 #include "dorado/mapping/motion_prior.hpp"
 #include "dorado/mapping/movers.hpp"
-#include "dorado/mapping/noise_calibration.hpp"
-#include "dorado/mapping/window_smoother.hpp"
+#include "dorado/mapping/pose_smoother.hpp"
 
 namespace dorado::mapping {
 
 enum class RegistrationMethod { kPointToPoint, kPointToPlane, kGicp };
-/// kCeres: the new pose alone (registration + Doppler + prior); kWindow: the fixed-lag smoother
-/// over the last window.size scans (window_smoother.hpp); kFilter: kCeres's registered pose, and
-/// the output an error-state filter whose state (the pose relative to the map) carries its own
-/// covariance P: the prior's motion propagates it (P^- = Ad P Ad^T + C_prior), the registered pose
-/// (by registration_covariance, zero information along its weak directions) updates it by
-/// information. The map is built from the registered poses, or with filter_builds_map from the
-/// filter's (one chain; docs/covariance.md).
-enum class Refinement { kNone, kCeres, kWindow, kFilter };
-/// Whether the refinement registers the pose with Ceres from the prior (ceres and filter): the
-/// registered pose then the output fused from it, the refinements that take the ground residual.
-[[nodiscard]] inline bool RefinesWithCeres(Refinement refinement) {
-    return refinement == Refinement::kCeres || refinement == Refinement::kFilter;
-}
 /// How the registration's information about the pose is counted when it is fused with the prior
 /// (configs/mapper.yaml, registration_covariance):
 ///   kIndependent: every point residual an independent measurement of the per-point noise model
@@ -72,8 +61,7 @@ struct MapperConfig {
     double min_motion_m = 0.1;
     int covariance_neighbours = 20;  ///< k of the local covariances (plane, GICP)
 
-    // Ceres refinement.
-    Refinement refinement = Refinement::kCeres;
+    // Ceres refinement of the registered pose.
     RobustKernel kernel = RobustKernel::kCauchy;
     double kernel_scale = 1.0;    ///< in whitened units (sigmas)
     double point_sigma_m = 0.3;   ///< radar point position noise
@@ -83,23 +71,16 @@ struct MapperConfig {
     int max_registration_residuals = 250;
     int max_doppler_residuals = 150;
     int refine_max_iterations = 5;
-    int refine_outer_iterations = 1;  ///< re-associate and refine this many times
     /// How the registration's information is counted against the prior (see the enum).
     RegistrationCovarianceModel registration_covariance = RegistrationCovarianceModel::kClustered;
-    /// The prior's and the registration's covariances scaled by the errors they show
-    /// (noise_calibration.hpp), in the fusion and the registered pose's prior residual.
-    NoiseCalibrationConfig noise_calibration;
     double registration_cluster_m = 4.0;  ///< cell of the clustered model's groups
-    WindowConfig window;                  ///< refinement = kWindow
 
-    // When registration is not trusted and the pose falls back to the prior.
+    /// The estimator: the fixed-lag smoother over the prior, the registrations and the ground.
+    SmootherConfig smoother;
+
+    // When there is nothing to register and the pose is the prior's.
     int min_correspondences = 40;
     double max_rms_m = 1.5;
-    /// A "jump": the registered pose is farther from the prior than this squared Mahalanobis
-    /// distance under the prior covariance plus the registration's own noise (below).
-    double max_prior_mahalanobis_squared = 25.0;
-    double registration_sigma_translation_m = 0.1;
-    double registration_sigma_rotation_rad = 0.01;
     /// The registration's own noise that no scan's residuals show (the map's error, shared by all
     /// of a scan's matches): added to the registration's covariance, per axis (1 sigma).
     double registration_floor_sigma_translation_m = 0.03;
@@ -110,22 +91,15 @@ struct MapperConfig {
     /// the registered pose keeps the prior's value along it and the registration adds no
     /// information there (the prior carries the pose); across the others the map does. 0: off.
     double registration_weak_ratio = 0.0;
-    /// With a prior built from the Doppler velocity (doppler, imu+doppler), let the Doppler
-    /// residuals join the registered pose's step anyway (counted a second time there; an
-    /// A/B switch). The output's step never counts them twice.
-    bool doppler_in_registration = false;
-    /// refinement filter: build the map from the filter's poses, so that the map, the output and
-    /// its covariance are one chain (one estimator), instead of from the registered poses (two
-    /// chains). Ignored by the other refinements (ceres: two chains; none, window: one).
-    bool filter_builds_map = false;
     double min_observability = 0.004;
 
     /// Throws std::invalid_argument naming the first bad key.
     void Validate() const;
 };
 
-/// Why a scan's registration was not trusted and its pose fell back to the prior, in the order
-/// the checks run; the numbers that decided it are in RegistrationResult::fallback_detail.
+/// Why a scan has no registration (its pose is the prior's, smoothed), in the order the checks
+/// run; the numbers that decided it are in RegistrationResult::fallback_detail. A registration
+/// that disagrees with the prior is not one: it is down-weighted (registration_weight).
 enum class FallbackCause {
     kNone,          ///< registered
     kTooFewPoints,  ///< "too few points": the downsampled scan is smaller than min_correspondences
@@ -133,14 +107,14 @@ enum class FallbackCause {
     kTooFewCorrespondences,  ///< "too few correspondences" within the threshold
     kBadFitness,             ///< "bad fitness": their RMS distance above max_rms_m
     kDegenerate,             ///< "degenerate geometry": observability below min_observability
-    kJump,                   ///< "jump outside the prior": max_prior_mahalanobis_squared exceeded
+    kUnrefined,              ///< "refinement failed": Ceres found no usable registered pose
 };
 /// Every cause, in the order above.
 inline constexpr FallbackCause kAllFallbackCauses[] = {
     FallbackCause::kNone,         FallbackCause::kTooFewPoints,
     FallbackCause::kNotConverged, FallbackCause::kTooFewCorrespondences,
     FallbackCause::kBadFitness,   FallbackCause::kDegenerate,
-    FallbackCause::kJump};
+    FallbackCause::kUnrefined};
 
 /// Milliseconds spent in each stage of Register.
 struct StageTimes {
@@ -152,10 +126,9 @@ struct StageTimes {
     double total_ms = 0.0;
 };
 
-/// The registered pose and its covariance by registration_covariance (the xi convention below):
-/// the fused pose's other input, for comparison. With refinement ceres it is the pose the map is
-/// built from (registration, Doppler and prior residuals on the map's own chain of poses, locked
-/// to the map); with none and window the registration alone.
+/// The registered pose and the registration's covariance (registration_covariance, the xi
+/// convention below): registration, Doppler and prior residuals jointly (Ceres), the smoother's
+/// measurement of the scan's pose.
 struct RegisteredPose {
     bool valid = false;  ///< false on the first scan, on a fallback, or a singular information
     Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
@@ -171,23 +144,37 @@ struct RegisteredPose {
     Matrix6d information = Matrix6d::Zero();
 };
 
-struct RegistrationResult {
+/// A scan's pose as written: smoothed by the scans on both sides of it, the pose its points
+/// entered the map at. Poses are written in scan order, about smoother.lag_s after their scan.
+struct WrittenPose {
+    int64_t stamp_ns = 0;
     Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
-    /// Covariance of T_world_base given the map and the previous pose (both fixed), as the
-    /// right perturbation xi = [rho; phi] in the base frame (T_true = T_world_base ExpSE3(xi),
-    /// MotionPrior's convention): the fused information of the prior, the registration and the
-    /// Doppler residuals. The prior's covariance on a fallback or when the refinement fails; zero
-    /// on the first scan (the map's origin). It is the uncertainty of this scan's motion relative
-    /// to the map and the previous pose, not the accumulated drift of the map. With refinement
-    /// filter: the covariance of the motion from the previous output pose (filter_covariance
-    /// below is the pose's own).
+    /// The covariance of the motion from the previous written pose (xi convention below); zero
+    /// for the first scan.
     Matrix6d covariance = Matrix6d::Zero();
-    RegisteredPose registered;  ///< the registration's estimate that T_world_base fuses
-    /// refinement filter: the covariance of T_world_base relative to the map (the filter's state,
-    /// same convention; zero at the first scan); zero with the other refinements.
-    Matrix6d filter_covariance = Matrix6d::Zero();
-    bool first_scan = false;  ///< the map was empty: the pose is the prior and starts the map
-    /// Registration not trusted (kNone: registered): the pose is the prior.
+    /// The smoother's inputs for this scan, as they were: the motion prior (from the previous
+    /// scan's newest estimate) and the registered pose (not valid on a fallback).
+    MotionPrior prior;
+    RegisteredPose registered;
+    bool first_scan = false;
+    double registration_weight = 0.0;  ///< after the robust loss (0: no registration)
+    bool map_updated = false;          ///< a keyframe: its points entered the map
+    /// The points it added to the mapper's map, world frame: the union over a run is the map as
+    /// it was (map.pcd), cropping aside.
+    Eigen::Matrix3Xd map_points_added_world;
+};
+
+/// What Register made of the newest scan.
+struct RegistrationResult {
+    /// The newest scan's pose: filtered (the smoother's estimate from the scans up to this one),
+    /// the start of the next scan's prior. The written, smoothed poses are in `written`.
+    Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();
+    /// Its marginal covariance given the map, as the right perturbation xi = [rho; phi] in the
+    /// base frame (T_true = T_world_base ExpSE3(xi), MotionPrior's convention).
+    Matrix6d covariance = Matrix6d::Zero();
+    RegisteredPose registered;  ///< the registration's estimate the smoother weighs
+    bool first_scan = false;    ///< the map was empty: the pose is the prior and starts the map
+    /// Nothing to register (kNone: registered): the pose is the prior's, smoothed.
     FallbackCause fallback_cause = FallbackCause::kNone;
     std::string fallback_detail;  ///< the numbers behind the cause, e.g. "rms 1.7 m" (for reports)
     [[nodiscard]] bool fallback() const { return fallback_cause != FallbackCause::kNone; }
@@ -195,32 +182,30 @@ struct RegistrationResult {
     int correspondences = 0;     ///< within the threshold at the final pose
     double fitness_rms_m = 0.0;  ///< RMS distance of those correspondences
     double observability = 0.0;  ///< min eigenvalue ratio of the point-to-plane information
-    double prior_mahalanobis_squared =
-        0.0;                   ///< of the registered pose (prior + registration noise)
+    /// The registered pose against the prediction: squared Mahalanobis distance under the
+    /// prediction's and the registration's covariances (6 on average when both are honest).
+    double prior_mahalanobis_squared = 0.0;
+    /// The registration's weight in the smoother after the robust loss on that distance.
+    double registration_weight = 0.0;
     double threshold_m = 0.0;  ///< correspondence threshold used
     int doppler_residuals = 0;
-    /// The scan's ground (MapperInput::ground_base) joined the refinement (refinement ceres or
-    /// filter, 3-D, registered, and consistent with the prior).
+    /// The scan's ground (MapperInput::ground_base) joined the smoother (3-D, consistent with
+    /// the prediction).
     bool ground_used = false;
-    bool map_updated = false;
     /// The map points dropped from cells seen moving in this scan.
     int map_points_dropped = 0;
     /// The map cells (map.voxel_size_m) emptied because something moved there: an output map
-    /// that accumulates map_points_added_world drops its points in them too.
+    /// that accumulates the written points drops its points in them too (before adding this
+    /// call's `written` points).
     std::vector<VoxelKey> map_cells_dropped;
-    /// The online noise calibration's scales after this scan (noise_calibration.hpp).
-    NoiseScales noise_scales;
     /// Per scan point: true when the mask called it static but the mover rules kept it out (near
     /// a moving point, or in a cell where something moved recently: movers.hpp).
     Eigen::Array<bool, Eigen::Dynamic, 1> mover_dropped;
     [[nodiscard]] int mover_points_dropped() const {
         return static_cast<int>(mover_dropped.count());
     }
-    /// The points this scan added to the mapper's map, world frame, placed at the pose the map is
-    /// built from (the registered pose with refinement ceres and filter, the output with none,
-    /// window and filter + filter_builds_map):
-    /// the union over a run is the map as it was (map.pcd), cropping aside.
-    Eigen::Matrix3Xd map_points_added_world;
+    /// The poses that left the smoother with this scan (oldest first; none while it fills).
+    std::vector<WrittenPose> written;
     std::size_t local_map_points = 0;  ///< after this scan's update (bounded by the crop radius)
     StageTimes times;
 };
@@ -240,20 +225,14 @@ struct MapperInput {
     /// true = seen moving (the Doppler mask's outliers): kept out with their neighbours and
     /// remembered in the map (movers.hpp). Empty: none.
     PointMask moving_mask;
-    /// The interval's mean gyro rate in the base frame (the window smoother's gyro factor; other
-    /// refinements ignore it).
-    std::optional<Eigen::Vector3d> gyro_base_radps;
-    /// The road's up-vector seen in this scan: holds the refined poses' roll and pitch with
-    /// refinement ceres and filter in 3-D (not in planar mode, not with none or window).
+    /// The road's up-vector seen in this scan: holds the poses' roll and pitch in the smoother
+    /// (3-D; not in planar mode, where they are held at the prior's).
     std::optional<GroundUp> ground_base;
 };
 
 class RadarMapper {
   public:
-    /// The geometry (half wheelbase, model noise) is used by the window smoother's kinematic
-    /// factor.
-    RadarMapper(const MapperConfig &config, const Extrinsics &extrinsics,
-                const VehicleGeometry &geometry = VehicleGeometry{});
+    RadarMapper(const MapperConfig &config, const Extrinsics &extrinsics);
     ~RadarMapper();
     RadarMapper(RadarMapper &&) noexcept;
     RadarMapper &operator=(RadarMapper &&) noexcept;
@@ -267,10 +246,12 @@ class RadarMapper {
     [[nodiscard]] const MapperConfig &config() const;
     /// Scans that fell back to the prior so far.
     [[nodiscard]] int fallbacks() const;
+    /// The end of the drive: every pose still in the smoother, written (in scan order, each
+    /// scan's points into the map as in Register). Register throws std::logic_error after it.
+    std::vector<WrittenPose> Finish();
 
     /// A 2D radar (the odometry's planar mode): from now on every scan registers in the plane,
     /// x, y and yaw, with z, roll and pitch held at the prior's (planar_registration.hpp).
-    /// Throws std::invalid_argument with refinement window (a 6-DoF smoother).
     void SetPlanar();
     [[nodiscard]] bool planar() const;
 
@@ -283,10 +264,6 @@ class RadarMapper {
 /// "" (kNone), "too few points", "registration did not converge", ... (as in the enum).
 [[nodiscard]] const char *ToString(FallbackCause cause);
 [[nodiscard]] const char *ToString(RobustKernel kernel);
-/// "none" | "ceres" | "window" | "filter".
-[[nodiscard]] const char *ToString(Refinement refinement);
-/// The inverse of ToString(Refinement); throws std::invalid_argument listing the choices.
-[[nodiscard]] Refinement ParseRefinement(const std::string &name);
 /// Parse "point_to_point" | "point_to_plane" | "gicp"; throws std::invalid_argument.
 [[nodiscard]] RegistrationMethod ParseRegistrationMethod(const std::string &name);
 /// Parse "none" | "huber" | "cauchy" | "tukey"; throws std::invalid_argument.

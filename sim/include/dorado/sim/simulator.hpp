@@ -12,6 +12,7 @@
 
 #include "dorado/core/extrinsics.hpp"
 #include "dorado/core/trajectory.hpp"
+#include "dorado/core/twist.hpp"
 #include "dorado/sim/sequence_config.hpp"
 
 namespace dorado::sim {
@@ -28,9 +29,8 @@ struct BagTopics {
 /// The exact velocity of the vehicle at one radar scan.
 struct TrueTwist {
     int64_t stamp_ns = 0;
-    Eigen::Vector3d v_base = Eigen::Vector3d::Zero();      ///< base frame [m/s]
-    Eigen::Vector3d omega_base = Eigen::Vector3d::Zero();  ///< base frame [rad/s]
-    Eigen::Vector3d v_radar = Eigen::Vector3d::Zero();     ///< radar origin, radar frame [m/s]
+    Twist twist_base;  ///< the base's twist in the base frame (exact: zero covariance)
+    Eigen::Vector3d v_radar = Eigen::Vector3d::Zero();  ///< radar origin, radar frame [m/s]
 };
 
 struct SimulationStats {

@@ -1,0 +1,68 @@
+#!/usr/bin/python3
+"""`dorado map --prior doppler` with every radar gives the same trajectory from the data sets' own
+layouts (reader nuscenes, reader radarscenes; devkit copies written by make_devkit_copies.py) as
+from the converted extract folders (reader folder with a radars: list).
+
+  check_native_map.py DORADO SHARED_REAL_DIR OUT_DIR
+Prints per data set the poses and the largest position difference; fails when the stamps differ or
+a position differs by more than 1 mm, or when a bad --scene / --sequence / --radars does not exit 1
+with a message naming what there is. Exit 77 (skipped) without the shared drives
+(DORADO_SHARED_REAL names another place).
+"""
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def main(dorado, shared, out):
+    dorado, out = os.path.abspath(dorado), os.path.abspath(out)
+    shared = os.environ.get("DORADO_SHARED_REAL", shared)
+    if not os.path.isfile(os.path.join(shared, "nuscenes_scene-0061", "mounts.txt")):
+        print("skipped: the shared real drives are absent (%s)" % shared)
+        return 77
+    subprocess.run([sys.executable, os.path.join(HERE, "make_devkit_copies.py"), shared, out],
+                   check=True, stdout=subprocess.DEVNULL)
+    failed = False
+    for data_set in ("nuscenes", "radarscenes"):
+        trajectories = {}
+        for layout in ("native", "extracts"):
+            run = os.path.join(out, "%s_%s_map" % (data_set, layout))
+            subprocess.run([dorado, "map", os.path.join(out, "%s_%s.yaml" % (data_set, layout)),
+                            "--prior", "doppler", "--out", run], check=True,
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            trajectories[layout] = np.loadtxt(os.path.join(run, "trajectory.tum"), ndmin=2)
+        a, b = trajectories["native"], trajectories["extracts"]
+        if a.shape != b.shape or not np.array_equal(a[:, 0], b[:, 0]):
+            print("%s: %d poses native, %d from the extracts, or other stamps"
+                  % (data_set, len(a), len(b)))
+            failed = True
+            continue
+        difference = float(np.max(np.linalg.norm(a[:, 1:4] - b[:, 1:4], axis=1)))
+        path = float(np.sum(np.linalg.norm(np.diff(b[:, 1:4], axis=0), axis=1)))
+        print("%s: %d poses, max |difference| %.3g m (path %.0f m)"
+              % (data_set, len(a), difference, path))
+        failed = failed or not difference <= 1e-3
+    # Bad choices on the command line: exit 1 with the file, what there is and the nearest name.
+    for args, expected in (
+            (["info", "nuscenes_native.yaml", "--scene", "scene-061"],
+             ["nuscenes_native.yaml", "scene.json: no scene named 'scene-061'",
+              "the scenes: scene-0061, scene-0103", "did you mean 'scene-0061'?"]),
+            (["map", "radarscenes_native.yaml", "--sequence", "108", "--out", "unused"],
+             ["--sequence 108", "sequence_108 is not a folder", "did you mean sequence_105?"]),
+            (["map", "nuscenes_native.yaml", "--radars", "RADAR_FRONT_LFET", "--out", "unused"],
+             ["--radars RADAR_FRONT_LFET: no such radar", "RADAR_FRONT_LEFT"])):
+        result = subprocess.run([dorado] + args, cwd=out, capture_output=True, text=True)
+        missing = [e for e in expected if e not in result.stderr]
+        print("dorado %s: exit %d%s" % (" ".join(args[:4]), result.returncode,
+                                        ", missing %s in: %s" % (missing, result.stderr)
+                                        if missing else ""))
+        failed = failed or result.returncode != 1 or bool(missing)
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(*sys.argv[1:4]))
