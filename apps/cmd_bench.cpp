@@ -22,6 +22,7 @@
 #include "dorado/config/map_config.hpp"
 #include "dorado/config/odometry_config.hpp"
 #include "dorado/io/atomic_file.hpp"
+#include "output_folder.hpp"
 #include "progress.hpp"
 
 namespace dorado::apps {
@@ -154,6 +155,11 @@ std::vector<JobOutcome> RunAll(const std::vector<BenchRun> &runs, const BenchCon
             std::fprintf(stderr, ": %s", outcome.message.c_str());
         std::fprintf(stderr, "\n");
     };
+    runner.on_stale = [&](std::size_t job) {
+        std::fprintf(stderr,
+                     "bench: %s: the finished run in %s had other settings or inputs: run again\n",
+                     jobs[job].name.c_str(), jobs[job].out_dir.c_str());
+    };
     std::fprintf(stderr, "bench: %zu runs (%zu sequences) on %zu parallel jobs, results in %s\n",
                  jobs.size(), config.sequences.size(), config.jobs, out_dir.c_str());
     std::vector<JobOutcome> outcomes = RunJobs(jobs, runner);
@@ -247,6 +253,7 @@ void RunBench(const BenchOptions &o) {
     if (!o.score_only) CheckBenchInputs(config);
     const std::vector<JobOutcome> outcomes =
         o.score_only ? OutcomesOnDisk(runs) : RunAll(runs, config, out_dir);
+    PrepareOutputFolder(out_dir, OutputKind::kBench);  // the report's files; runs/ stays
     Report(runs, outcomes, config, out_dir, o.no_plot);
 }
 

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "commands.hpp"
-#include "dorado/config/config_keys.hpp"
+#include "config_keys.hpp"
 #include "dorado/config/map_config.hpp"
 #include "dorado/config/odometry_config.hpp"
 
@@ -50,7 +50,7 @@ void RegisterConfigCommand(CLI::App &app) {
     auto *keys = cmd->add_subcommand(
         "keys",
         "every key of odometry.yaml and mapper.yaml with its default (docs/config_keys.md)");
-    keys->callback([] { std::cout << config::ConfigKeysMarkdown(); });
+    keys->callback([] { std::cout << ConfigKeysMarkdown(); });
 }
 
 }  // namespace dorado::apps

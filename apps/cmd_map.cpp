@@ -12,7 +12,9 @@
 #include "dorado/io/dataset.hpp"
 #include "map_outputs.hpp"
 #include "multi_radar_map.hpp"
+#include "output_folder.hpp"
 #include "progress.hpp"
+#include "reference_path.hpp"
 #include "scan_loop.hpp"
 #include "stream_guard.hpp"
 
@@ -83,7 +85,7 @@ void RunMap(const MapOptions &opt) {
     }
     const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "map");
     frontend::RadarFrontEnd front_end(config, dataset.extrinsics, dataset.vehicle);
-    io::MakeDirectories(opt.out);
+    PrepareOutputFolder(opt.out);
     if (opt.masks) io::MakeDirectories(opt.out + "/masks");
 
     const std::size_t expected = CountRadarMessages(dataset, needs_imu, "--prior " + opt.prior);
@@ -100,7 +102,7 @@ void RunMap(const MapOptions &opt) {
     guard.ThrowIfNoScanUsed(loop.used(), reader->source());
 
     outputs.AddWritten(front_end.Finish());  // the poses still in the smoother
-    outputs.Write(opt.out, front_end.trajectory());
+    outputs.Write(opt.out, front_end.trajectory(), ReferencePath(dataset, front_end.trajectory()));
     nlohmann::json summary = MapRunSummary(dataset.name, config, guard.stopped());
     summary.update({{"scans", loop.scans()},
                     {"scans_registered", loop.used()},

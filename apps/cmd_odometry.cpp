@@ -16,6 +16,7 @@
 #include "dorado/io/csv_text.hpp"
 #include "dorado/io/dataset.hpp"
 #include "dorado/io/trajectory_io.hpp"
+#include "output_folder.hpp"
 #include "progress.hpp"
 #include "scan_loop.hpp"
 #include "stream_guard.hpp"
@@ -139,7 +140,7 @@ void RunOdometry(const OdometryOptions &opt) {
     }
     config.odometry.ego_velocity.sensor = dataset.radar;  // the radar: noise, ambiguity
     frontend::RadarFrontEnd front_end(config, dataset.extrinsics, dataset.vehicle);
-    io::MakeDirectories(opt.out);
+    PrepareOutputFolder(opt.out);
     if (opt.masks) io::MakeDirectories(opt.out + "/masks");
 
     const std::size_t expected = CountRadarMessages(dataset, needs_imu, "rotation from the IMU");

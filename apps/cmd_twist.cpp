@@ -23,6 +23,7 @@
 #include "dorado/odometry/planar_kinematic_model.hpp"
 #include "dorado/odometry/planar_twist_filter.hpp"
 #include "multi_radar_map.hpp"
+#include "output_folder.hpp"
 #include "progress.hpp"
 #include "scan_loop.hpp"
 #include "skip_log.hpp"
@@ -60,7 +61,7 @@ void RunTwist(const TwistOptions &opt) {
     const odometry::PlanarKinematicModel kinematic(Extrinsics{dataset.radars[0].T_base_radar},
                                                    dataset.vehicle);
 
-    io::MakeDirectories(opt.out);
+    PrepareOutputFolder(opt.out);
     std::ostringstream csv;
     csv.precision(9);
     csv << "t,radar,valid,update,v_x,v_y,omega_z,sd_v_x,sd_v_y,sd_omega_z,nis,kinematic_valid,"

@@ -39,10 +39,78 @@ cv::Vec3b ColourOf(double t, int colormap) {  // t in [0, 1]
     return ColormapTable(colormap)(static_cast<int>(clamped * 255.0), 0);
 }
 
+cv::Scalar ScalarOf(const cv::Vec3b &c) {
+    return cv::Scalar(c[0], c[1], c[2]);
+}
+
+/// A polyline drawn dashed (kDashPx on, kDashPx off along its length), so that a path under it
+/// stays visible.
+void DrawDashed(cv::Mat3b &image, const std::vector<cv::Point> &points, const cv::Scalar &colour) {
+    constexpr double kDashPx = 10.0, kStepPx = 2.0;
+    double along = 0.0;
+    for (std::size_t k = 1; k < points.size(); ++k) {
+        const cv::Point2d a = points[k - 1], b = points[k];
+        const double length = cv::norm(b - a);
+        const int steps = std::max(1, static_cast<int>(std::ceil(length / kStepPx)));
+        for (int s = 0; s < steps; ++s) {
+            const double f0 = static_cast<double>(s) / steps,
+                         f1 = static_cast<double>(s + 1) / steps;
+            if (static_cast<long>((along + f0 * length) / kDashPx) % 2 == 0)
+                cv::line(image, a + f0 * (b - a), a + f1 * (b - a), colour, 2, cv::LINE_AA);
+        }
+        along += length;
+    }
+}
+
+/// A colour ramp of @p colormap over [0, span] as a horizontal bar at @p at.
+void DrawRamp(cv::Mat3b &image, cv::Point at, int width, int height, int colormap, double span) {
+    for (int x = 0; x < width; ++x) {
+        const cv::Vec3b c = ColourOf(span * x / std::max(1, width - 1), colormap);
+        cv::line(image, at + cv::Point(x, 0), at + cv::Point(x, height - 1), ScalarOf(c));
+    }
+}
+
+/// The legend, top left: what each colour and line is.
+void DrawLegend(cv::Mat3b &image, bool with_reference, double colour_span, double z_lo,
+                double z_hi) {
+    char heights[96];
+    std::snprintf(heights, sizeof(heights), "map points, colour: height %.1f .. %.1f m", z_lo,
+                  z_hi);
+    std::vector<std::string> rows{"estimate, colour: time (start .. end)"};
+    if (with_reference) rows.emplace_back("reference: the dataset's ground truth");
+    rows.emplace_back(heights);
+    constexpr int kRow = 26, kSwatch = 40, kPad = 10;
+    const double font = 0.55;
+    int text_width = 0;
+    for (const auto &row : rows) {
+        int baseline = 0;
+        text_width = std::max(
+            text_width, cv::getTextSize(row, cv::FONT_HERSHEY_SIMPLEX, font, 1, &baseline).width);
+    }
+    const cv::Rect box(kPad, kPad, 3 * kPad + kSwatch + text_width,
+                       kPad + static_cast<int>(rows.size()) * kRow);
+    cv::rectangle(image, box, cv::Scalar(255, 255, 255), cv::FILLED);
+    cv::rectangle(image, box, cv::Scalar(0, 0, 0), 1);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const cv::Point swatch(2 * kPad, 2 * kPad + static_cast<int>(i) * kRow);
+        if (i == 0) {
+            DrawRamp(image, swatch + cv::Point(0, 4), kSwatch, 4, cv::COLORMAP_PLASMA, 1.0);
+        } else if (with_reference && i == 1) {
+            DrawDashed(image, {swatch + cv::Point(0, 5), swatch + cv::Point(kSwatch, 5)},
+                       cv::Scalar(0, 0, 0));
+        } else {
+            DrawRamp(image, swatch, kSwatch, 10, cv::COLORMAP_VIRIDIS, colour_span);
+        }
+        cv::putText(image, rows[i], swatch + cv::Point(kSwatch + kPad, 10),
+                    cv::FONT_HERSHEY_SIMPLEX, font, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    }
+}
+
 }  // namespace
 
 void WriteBirdsEyeImage(const std::string &path, const Eigen::Matrix3Xd &map_points_world,
-                        const std::vector<Eigen::Vector3d> &trajectory_world, int max_side_px) {
+                        const std::vector<Eigen::Vector3d> &trajectory_world,
+                        const std::vector<Eigen::Vector3d> &reference_world, int max_side_px) {
     Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
     auto grow = [&](const Eigen::Vector3d &p) {
         lo = lo.cwiseMin(p.head<2>());
@@ -50,6 +118,7 @@ void WriteBirdsEyeImage(const std::string &path, const Eigen::Matrix3Xd &map_poi
     };
     for (Eigen::Index i = 0; i < map_points_world.cols(); ++i) grow(map_points_world.col(i));
     for (const auto &p : trajectory_world) grow(p);
+    for (const auto &p : reference_world) grow(p);
     if (!lo.allFinite()) lo = hi = Eigen::Vector2d::Zero();
     const double margin_m = 5.0;
     lo.array() -= margin_m;
@@ -94,6 +163,11 @@ void WriteBirdsEyeImage(const std::string &path, const Eigen::Matrix3Xd &map_poi
         cv::line(image, pixel(trajectory_world[k - 1]), pixel(trajectory_world[k]),
                  cv::Scalar(c[0], c[1], c[2]), 3, cv::LINE_AA);
     }
+    // The reference on top, dashed: the estimate shows between its dashes.
+    std::vector<cv::Point> reference_px;
+    for (const auto &p : reference_world) reference_px.push_back(pixel(p));
+    DrawDashed(image, reference_px, cv::Scalar(0, 0, 0));
+    DrawLegend(image, !reference_world.empty(), colour_span, z_lo, z_hi);
     // Scale bar: a round length near a fifth of the width.
     const double target_m = 0.2 * width / px_per_m;
     const double bar_m = std::pow(10.0, std::floor(std::log10(std::max(target_m, 1e-3))));

@@ -1,7 +1,8 @@
 #pragma once
 /// @file map_image.hpp
 /// Bird's-eye picture of a map and a trajectory (OpenCV): map points coloured by height, the
-/// trajectory coloured by time, north (world +Y) up, with a scale bar.
+/// trajectory coloured by time, the reference trajectory (when the dataset has one) dashed black,
+/// north (world +Y) up, with a scale bar and a legend.
 
 #include <Eigen/Core>
 #include <string>
@@ -9,10 +10,12 @@
 
 namespace dorado::apps {
 
-/// Writes a PNG at `path`. max_side_px bounds the larger image side. Throws std::runtime_error
-/// naming the file when it cannot be written.
+/// Writes a PNG at `path`. reference_world: the reference trajectory in the same world (empty:
+/// none). max_side_px bounds the larger image side. Throws std::runtime_error naming the file
+/// when it cannot be written.
 void WriteBirdsEyeImage(const std::string &path, const Eigen::Matrix3Xd &map_points_world,
                         const std::vector<Eigen::Vector3d> &trajectory_world,
+                        const std::vector<Eigen::Vector3d> &reference_world = {},
                         int max_side_px = 1600);
 
 }  // namespace dorado::apps

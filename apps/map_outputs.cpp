@@ -137,12 +137,13 @@ void MapOutputs::AddWritten(const std::vector<mapping::WrittenPose> &written) {
     }
 }
 
-void MapOutputs::Write(const std::string &out_dir, const Trajectory &trajectory) const {
+void MapOutputs::Write(const std::string &out_dir, const Trajectory &trajectory,
+                       const std::vector<Eigen::Vector3d> &reference_world) const {
     io::WriteTum(out_dir + "/trajectory.tum", trajectory);
     const Eigen::Matrix3Xd points = MapPoints();
     io::WritePcd(out_dir + "/map.pcd", points);
     io::WritePly(out_dir + "/map.ply", points);
-    WriteBirdsEyeImage(out_dir + "/map.png", points, positions_);
+    WriteBirdsEyeImage(out_dir + "/map.png", points, positions_, reference_world);
     io::WriteFileAtomically(out_dir + "/scans.csv", [&](std::ostream &os) { os << csv_; });
     io::WriteFileAtomically(out_dir + "/covariance.csv",
                             [&](std::ostream &os) { os << covariances_.csv(); });

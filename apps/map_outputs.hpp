@@ -28,8 +28,10 @@ class MapOutputs {
     void AddWritten(const std::vector<mapping::WrittenPose> &written);
 
     /// Writes trajectory.tum, the map files, scans.csv and covariance.csv into out_dir.
-    /// map.pcd holds the points in the order the mapper added them.
-    void Write(const std::string &out_dir, const Trajectory &trajectory) const;
+    /// map.pcd holds the points in the order the mapper added them; map.png draws
+    /// reference_world (the dataset's ground truth in the map's world, empty: none) too.
+    void Write(const std::string &out_dir, const Trajectory &trajectory,
+               const std::vector<Eigen::Vector3d> &reference_world = {}) const;
 
     /// The counts and timings for summary.json: fallbacks and their reasons, prior
     /// substitutions, scans without a mask, time per scan and per stage (mean, median, p95).

@@ -10,7 +10,9 @@
 #include "dorado/io/atomic_file.hpp"
 #include "dorado/io/dataset.hpp"
 #include "map_outputs.hpp"
+#include "output_folder.hpp"
 #include "progress.hpp"
+#include "reference_path.hpp"
 #include "scan_loop.hpp"
 #include "skip_log.hpp"
 #include "stream_guard.hpp"
@@ -73,7 +75,7 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
                       const std::string &out_dir) {
     frontend::MultiRadarFrontEnd front_end(config, Mounts(dataset), dataset.extrinsics.T_base_imu,
                                            dataset.vehicle, twist_filter);
-    io::MakeDirectories(out_dir);
+    PrepareOutputFolder(out_dir);
     auto reader = io::OpenRadars(dataset);
     std::size_t expected = 0;
     for (std::size_t k = 0; k < dataset.radars.size(); ++k)
@@ -123,7 +125,7 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
     guard.ThrowIfNoScanUsed(sweeps, reader->source());
 
     outputs.AddWritten(front_end.Finish());  // the sweeps still in the smoother
-    outputs.Write(out_dir, front_end.trajectory());
+    outputs.Write(out_dir, front_end.trajectory(), ReferencePath(dataset, front_end.trajectory()));
     WriteCalibratedMounts(out_dir, dataset, front_end.twist_filter());
     nlohmann::json radars = nlohmann::json::array();
     for (std::size_t k = 0; k < dataset.radars.size(); ++k) {

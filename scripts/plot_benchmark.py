@@ -183,10 +183,36 @@ def ground_truth_path(out_dir, seq):
     return os.path.join(out_dir, "data", seq, "ground_truth.tum")
 
 
+def close_view(centre, half):
+    """(xlim, ylim) of a square view of half-width `half` [m] around centre (x, y)."""
+    return (centre[0] - half, centre[0] + half), (centre[1] - half, centre[1] + half)
+
+
+def fig7_insets(gt, estimates):
+    """The close views of Fig. 7, each showing what it names: `start` around the ground truth
+    where the estimates start, `end` around the ground truth where they end, both about a tenth
+    of the drive across. The end view widens to hold an estimate's end up to 3 of its half-widths
+    away; an end farther out is listed (an estimate that drifted off) instead of zooming out to
+    the whole drive. gt: TUM rows (t x y ...); estimates: {label: (first_t, last_t, end_xy)}.
+    Returns {"start": (xlim, ylim), "end": (xlim, ylim), "off_view": [labels]}."""
+    half = max(np.ptp(gt[:, 1]), np.ptp(gt[:, 2]), 1.0) * 0.08
+    def gt_at(t):
+        k = int(np.argmin(np.abs(gt[:, 0] - t)))
+        return gt[k, 1:3]
+    first_t = min(v[0] for v in estimates.values())
+    last_t = max(v[1] for v in estimates.values())
+    start, end = gt_at(first_t), gt_at(last_t)
+    distances = {label: float(np.linalg.norm(np.asarray(v[2]) - end)) for label, v in estimates.items()}
+    near = [d for d in distances.values() if d <= 3 * half]
+    end_half = max([half] + [1.1 * d for d in near])
+    off_view = sorted(label for label, d in distances.items() if d > 3 * half)
+    return {"start": close_view(start, half), "end": close_view(end, end_half), "off_view": off_view}
+
+
 def fig7_trajectories(out_dir, seqs):
     """Mapper trajectories from above per prior against the ground truth, with close views of the
-    start and the end (paper Fig. 7). Each estimate is put in the ground truth's frame by its first
-    pose, so the drift shows as it accumulates."""
+    start and the end (paper Fig. 7, fig7_insets). Each estimate is put in the ground truth's frame
+    by its first pose, so the drift shows as it accumulates."""
     candidates = [s for s in ["seq07"] + seqs if any(os.path.exists(
         os.path.join(out_dir, "runs", s, m, "trajectory.tum")) for m in MAP_METHODS)]
     if not candidates:
@@ -203,7 +229,7 @@ def fig7_trajectories(out_dir, seqs):
     ax_end = fig.add_subplot(2, 2, 4)
     for ax in (ax_main, ax_start, ax_end):
         ax.plot(gt[:, 1], gt[:, 2], color="black", lw=1.5, label="ground truth")
-    ends = []
+    estimates = {}
     for method in MAP_METHODS:
         est = read_tum(os.path.join(out_dir, "runs", seq, method, "trajectory.tum"))
         if est is None:
@@ -214,18 +240,19 @@ def fig7_trajectories(out_dir, seqs):
         p = (R @ (est[:, 1:4] - est[0, 1:4]).T).T + gt[k, 1:4]
         for ax in (ax_main, ax_start, ax_end):
             ax.plot(p[:, 0], p[:, 1], color=COLORS[method], lw=1, label=LABELS[method])
-        ends.append(p[-1, :2])
-    span = max(np.ptp(gt[:, 1]), np.ptp(gt[:, 2]), 1.0) * 0.08
-    ax_start.set_xlim(gt[0, 1] - span, gt[0, 1] + span)
-    ax_start.set_ylim(gt[0, 2] - span, gt[0, 2] + span)
-    end_points = np.vstack(ends + [gt[-1, 1:3]])
-    centre = end_points.mean(axis=0)
-    half = max(np.ptp(end_points[:, 0]), np.ptp(end_points[:, 1]), 2 * span) * 0.6
-    ax_end.set_xlim(centre[0] - half, centre[0] + half)
-    ax_end.set_ylim(centre[1] - half, centre[1] + half)
+        estimates[LABELS[method]] = (est[0, 0], est[-1, 0], p[-1, :2])
+    if not estimates:
+        note("no mapper trajectory of " + seq + " could be read, Fig. 7 skipped")
+        plt.close(fig)
+        return
+    views = fig7_insets(gt, estimates)
+    for ax, name in ((ax_start, "start"), (ax_end, "end")):
+        ax.set_xlim(*views[name][0])
+        ax.set_ylim(*views[name][1])
     ax_main.set_title("Mapper trajectory per prior, " + seq)
     ax_start.set_title("start", fontsize=9)
-    ax_end.set_title("end", fontsize=9)
+    off = ", ".join(views["off_view"])
+    ax_end.set_title("end" + (" (" + off + " ended outside this view)" if off else ""), fontsize=9)
     for ax in (ax_main, ax_start, ax_end):
         ax.set_aspect("equal", adjustable="box")
         ax.grid(alpha=0.3)

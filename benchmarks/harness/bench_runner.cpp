@@ -9,6 +9,8 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <stdexcept>
 #include <system_error>
@@ -34,8 +36,33 @@ std::string LogPath(const RunnerOptions &options, const BenchJob &job) {
     return (fs::path(options.log_dir) / (file + ".log")).string();
 }
 
-bool IsDone(const BenchJob &job) {
+constexpr const char *kJobRecord = "bench_job.txt";
+
+/// What a job ran with: its arguments, and the text of each .yaml file they name (the variant
+/// configs and dataset descriptions, which a re-used folder may hold with other values).
+std::string JobRecord(const BenchJob &job) {
+    std::string record;
+    for (const std::string &arg : job.args) {
+        record += arg + "\n";
+        std::error_code ec;
+        if (arg.size() > 5 && arg.compare(arg.size() - 5, 5, ".yaml") == 0 &&
+            fs::is_regular_file(arg, ec)) {
+            std::ifstream in(arg);
+            record += std::string(std::istreambuf_iterator<char>(in), {}) + "\n";
+        }
+    }
+    return record;
+}
+
+bool HasMarker(const BenchJob &job) {
     return fs::exists(fs::path(job.out_dir) / job.marker);
+}
+
+/// Finished with these arguments (JobRecord).
+bool IsDone(const BenchJob &job) {
+    if (!HasMarker(job)) return false;
+    std::ifstream in(fs::path(job.out_dir) / kJobRecord);
+    return in && std::string(std::istreambuf_iterator<char>(in), {}) == JobRecord(job);
 }
 
 // Starts `program args` with "{out}" replaced, output to log_path; returns the child's pid.
@@ -74,6 +101,7 @@ std::string Publish(const BenchJob &job) {
     if (!fs::exists(fs::path(TempDir(job)) / job.marker)) {
         return "exited 0 but wrote no " + job.marker;
     }
+    std::ofstream(fs::path(TempDir(job)) / kJobRecord) << JobRecord(job);
     std::error_code ec;
     fs::remove_all(job.out_dir, ec);  // an unfinished leftover (no marker)
     fs::rename(TempDir(job), job.out_dir, ec);
@@ -114,8 +142,15 @@ std::vector<JobOutcome> RunJobs(const std::vector<BenchJob> &jobs, const RunnerO
         ++finished;
         if (options.on_job_end) options.on_job_end(i, outcomes[i]);
     };
+    // Done only with its dependencies done before (a dependency run again changes its input).
     for (std::size_t i = 0; i < jobs.size(); ++i) {
-        if (IsDone(jobs[i])) end_job(i, JobStatus::kAlreadyDone, 0.0, "");
+        const bool inputs_kept = std::all_of(
+            jobs[i].depends_on.begin(), jobs[i].depends_on.end(),
+            [&](std::size_t d) { return outcomes[d].status == JobStatus::kAlreadyDone; });
+        if (inputs_kept && IsDone(jobs[i]))
+            end_job(i, JobStatus::kAlreadyDone, 0.0, "");
+        else if (HasMarker(jobs[i]) && options.on_stale)
+            options.on_stale(i);
     }
 
     struct Running {

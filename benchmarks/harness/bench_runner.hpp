@@ -5,7 +5,10 @@
 /// - a job writes into `out_dir + ".tmp"` and is renamed to `out_dir` only after it exited 0 and
 ///   its marker file (e.g. summary.json, written last and atomically by every dorado command)
 ///   exists: an interrupted or failed job never leaves a directory that looks finished;
-/// - a job whose `out_dir/marker` exists is finished and not run again;
+/// - a job whose `out_dir/marker` exists is finished and not run again, if it ran with the same
+///   arguments (and the same contents of the .yaml files they name: `out_dir/bench_job.txt`)
+///   and its dependencies were not run again; otherwise it runs again (an earlier run of
+///   other settings in a re-used folder is not taken for this one);
 /// - a job starts only after all its dependencies succeeded; it fails if one of them failed.
 
 #include <cstddef>
@@ -46,6 +49,9 @@ struct RunnerOptions {
         on_progress;
     /// Called when a job ends (or is found already done), with its index and outcome.
     std::function<void(std::size_t job, const JobOutcome &outcome)> on_job_end;
+    /// Called before the run, for each job whose finished output is of other settings (it runs
+    /// again).
+    std::function<void(std::size_t job)> on_stale;
 };
 
 /// Runs the jobs; returns one outcome per job, in job order. Throws std::invalid_argument for a

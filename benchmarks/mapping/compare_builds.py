@@ -5,7 +5,7 @@ exact trajectory. One table: ATE rmse [m] / RPE per second trans [mm] / rot [deg
 rot [deg] (means), per sequence and the mean of the sequences.
 
     compare_builds.py BENCH_DIR --dorado build/apps/dorado --run odom_doppler --run map_doppler \
-        --build bb26e02=/path/to/bb26e02/build/apps/dorado [--build ...]
+        --build old=/path/to/old/build/apps/dorado [--build ...]
 
 An older build may not know a key of today's dataset.yaml: each key it names as unknown is dropped from its copy
 (printed), as that build never had the setting. Its runs go to BENCH_DIR/builds/LABEL/SEQ (kept, not rerun).

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Scores the mapper's three estimates of each scan's motion (the prior alone, the registration
-alone and their fusion, from `dorado map`'s covariance.csv) against the exact trajectory, and the
-consistency of their covariances by NEES.
+alone and the smoother's written pose, `fused`, from `dorado map`'s covariance.csv: one row per
+written pose) against the exact trajectory, and the consistency of their covariances by NEES.
 
     fusion_nees.py --truth DATA/true_trajectory.tum --run MAPDIR [--name NAME] ...   (pairs repeat)
     fusion_nees.py ... --check-fused-nees LO HI    exit 1 unless every run's fused 1-frame mean NEES
@@ -13,7 +13,7 @@ consistency of their covariances by NEES.
                                                     registration's) covariance: what a mapper that
                                                     reported that one would be scored (a test's mutation)
 
-Per scan k (both k-1 and k registered), with T_{k-1} the mapper's previous (fused) pose, the
+Per scan k (both k-1 and k registered), with T_{k-1} the mapper's previous written (fused) pose, the
 motion of source X is D_X = T_{k-1}^-1 T_X,k and its error xi = Log(D_X^-1 D_true) (right
 perturbation in the base frame, the convention of the covariances). NEES = xi^T C_X^-1 xi with
 6 degrees of freedom. Over 1 s (the frames of one second at the run's median scan interval), the fused per-frame covariances are compounded (independent steps)

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """The fusion bench's table (docs/covariance.md): per sequence and method, ATE [m] / RPE per second trans [mm] /
-rot [deg] / RPE per frame trans [mm] / rot [deg] / map fallbacks (jump fallbacks) and the pooled mean over sequences,
+rot [deg] / RPE per frame trans [mm] / rot [deg] / map fallbacks and the pooled mean over sequences,
 from a `dorado bench` output folder (results.csv, bench_runs.csv, each map run's summary.json).
 
-    fusion_table.py DIR [DIR ...] [--methods odom_doppler map_doppler@refinement=ceres ...]
+    fusion_table.py DIR [DIR ...] [--methods odom_doppler map_doppler@mapper.registration_weak_ratio=0.05 ...]
 (several DIRs of the same sequences, e.g. runs of the same data with other grids, are merged)
 """
 import argparse
@@ -60,8 +60,7 @@ def main():
         summary = os.path.join(runs.get((s, m), ""), "summary.json")
         if os.path.exists(summary) and "fallbacks" in json.load(open(summary)):
             d = json.load(open(summary))
-            jumps = d.get("fallback_reasons", {}).get("jump outside the prior", 0)
-            parts.append(f"{d['fallbacks']} fb ({jumps} jump) / {d['scans']}")
+            parts.append(f"{d['fallbacks']} fb / {d['scans']}")
         return " / ".join(parts)
 
     print("| sequence | " + " | ".join(methods) + " |")

@@ -1,8 +1,8 @@
 # /usr/bin/python3 benchmarks/odometry/ground_table.py BENCH_OUT
-# Issue 31 item 2's decision table (configs/benchmark_ground.yaml): per sequence (seeds NAME, NAME_sK averaged) and run,
+# The ground factor's decision table (configs/benchmark_ground.yaml): per sequence (seeds NAME, NAME_sK averaged) and run,
 # the RMS roll and pitch errors [deg] (Euler ZYX of R_gt_rel^T R_est_rel, first pose aligned, as the ATE rotation),
 # the ATE rotation [deg], the ATE [m] and the rotation RPE per second [deg]; then, for each pair (ground off -> on), the
-# decision rule of docs/attitude.md section 8: the pooled (RMS over sequences) roll, pitch, ATE rotation and ATE must
+# decision rule of docs/design/attitude.md section 8: the pooled (RMS over sequences) roll, pitch, ATE rotation and ATE must
 # not get worse, no sequence's roll or pitch worse by more than max(0.2 deg, 10 %), no map ATE worse by more than 5 %.
 # Each breach is listed. DORADO=path of the CLI (default build/apps/dorado).
 import glob, json, os, re, subprocess, sys

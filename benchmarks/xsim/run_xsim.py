@@ -4,7 +4,7 @@ scenario kind, scored against the exact trajectory, with each kind's WORST seed 
 
     benchmarks/xsim/run_xsim.py --out DIR [--dorado build/apps/dorado] [--xsim ../shared/xsim]
         [--kinds hills,flat_fast,car_road,crowded,rotated_mount] [--seeds 100,101,102] [--jobs 2]
-        [--map-args "--refine window"] [--tag NAME] [--duration S]
+        [--map-args "--config VARIANT.yaml"] [--tag NAME] [--duration S]
 
 Per (kind, seed), once, cached in DIR/data/KIND_sSEED (KIND_sSEED_dS with --duration): make_scenario.py, then
 describe.py (DIR/data/.../dorado.yaml) and fast_movers.npy (see below). Seeds below 100 are refused (they are kept
@@ -293,7 +293,7 @@ def main():
     ap.add_argument('--tag', default='', help='names the doppler-prior map variant (runs and results files)')
     ap.add_argument('--duration', type=float, default=None, help='seconds (default: each scenario its own)')
     argv = sys.argv[1:]
-    for i, v in enumerate(argv[:-1]):  # `--map-args "--refine window"`: a value that starts with '--'
+    for i, v in enumerate(argv[:-1]):  # `--map-args "--config VARIANT.yaml"`: a value that starts with '--'
         if v == '--map-args':
             argv[i:i + 2] = ['--map-args=' + argv[i + 1]]
             break

@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "dorado/io/dataset_fields.hpp"
-#include "edit_distance.hpp"
+#include "dorado/io/closest_name.hpp"
 #include "readers.hpp"
 
 namespace dorado::io {
@@ -97,13 +97,13 @@ void ApplyDatasetChoice(DatasetConfig &config, const DatasetChoice &choice) {
         const std::vector<std::string> present = SequenceFolders(parent);
         std::string list;
         for (const std::string &s : present) list += (list.empty() ? "" : ", ") + s;
-        const auto closest = ClosestName(name, present, 2);
+        const std::string closest = ClosestName(name, present, 2);
         throw ConfigError(DescriptionName(config) + ": --sequence " + choice.sequence + ": " +
                           dir.string() +
                           " is not a folder (the sequences beside "
                           "radarscenes.sequence_dir: " +
                           (list.empty() ? "none" : list) + ")" +
-                          (closest ? "; did you mean " + *closest + "?" : ""));
+                          (closest.empty() ? "" : "; did you mean " + closest + "?"));
     }
     config.radarscenes.sequence_dir = dir.string();
 }

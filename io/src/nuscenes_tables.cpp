@@ -8,7 +8,7 @@
 #include <map>
 
 #include "dorado/io/dataset.hpp"
-#include "edit_distance.hpp"
+#include "dorado/io/closest_name.hpp"
 
 namespace dorado::io {
 
@@ -81,11 +81,11 @@ std::set<std::string> SceneSamples(const NuScenesSource &source) {
         if (names.back() == source.scene) scene_token = r.at("token").get<std::string>();
     });
     if (scene_token.empty()) {
-        const auto closest = ClosestName(source.scene, names, 3);
+        const std::string closest = ClosestName(source.scene, names, 3);
         throw DatasetError(NuScenesTablePath(source, "scene") + ": no scene named '" +
                            source.scene +
                            "' (nuscenes.scene, --scene); the scenes: " + Listed(names, 20) +
-                           (closest ? "; did you mean '" + *closest + "'?" : ""));
+                           (closest.empty() ? "" : "; did you mean '" + closest + "'?"));
     }
     std::set<std::string> samples;
     ForEachRecord(source, "sample", [&](const nlohmann::json &r) {
@@ -114,11 +114,11 @@ std::vector<std::string> ChannelsToRead(const NuScenesSource &source,
     for (const auto &[channel, token] : sensors) names.push_back(channel);
     for (const std::string &channel : asked) {
         if (sensors.count(channel)) continue;
-        const auto closest = ClosestName(channel, names, 3);
+        const std::string closest = ClosestName(channel, names, 3);
         throw DatasetError(NuScenesTablePath(source, "sensor") + ": no radar on channel '" +
                            channel +
                            "' (nuscenes.channel); the radar channels: " + Listed(names, 20) +
-                           (closest ? "; did you mean '" + *closest + "'?" : ""));
+                           (closest.empty() ? "" : "; did you mean '" + closest + "'?"));
     }
     if (!asked.empty()) return asked;
     std::vector<std::string> order;

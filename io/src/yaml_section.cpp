@@ -1,9 +1,8 @@
 #include "dorado/io/yaml_section.hpp"
 
-#include <algorithm>
 #include <cmath>
 
-#include "edit_distance.hpp"
+#include "dorado/io/closest_name.hpp"
 
 namespace dorado::io {
 
@@ -61,15 +60,9 @@ void YamlSection::RejectUnknownKeys() const {
                          std::to_string(entry.first.Mark().line + 1) + ")");
         const std::string &key = entry.first.Scalar();
         if (known_.count(key)) continue;
-        std::string hint;
-        std::size_t best = 3;  // suggest only keys at most 2 edits away
-        for (const auto &k : known_) {
-            const std::size_t d = EditDistance(k, key);
-            if (d < best) {
-                best = d;
-                hint = " (did you mean '" + k + "'?)";
-            }
-        }
+        const std::string closest =
+            ClosestName(key, std::vector<std::string>(known_.begin(), known_.end()));
+        const std::string hint = closest.empty() ? "" : " (did you mean '" + closest + "'?)";
         std::string list;
         for (const auto &k : known_) list += (list.empty() ? "" : ", ") + k;
         Fail(key, "unknown key" + hint + "; known keys: " + list);

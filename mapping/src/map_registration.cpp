@@ -76,6 +76,7 @@ ScanEstimate RadarMapper::State::RegisterToMap(const Eigen::Matrix3Xd &source_ba
         return out;
     }
     out.registered = refined.registered;
+    out.T_world_base_aligned = aligned.T_world_base;
     return out;
 }
 

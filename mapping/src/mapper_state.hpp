@@ -30,8 +30,11 @@ struct ScanEstimate {
     double fitness_rms_m = 0.0;
     double alignment_ms = 0.0, registration_ms = 0.0, refinement_ms = 0.0;
     RegisteredPose registered;
+    /// The registration alone (PCL's alignment from the prediction), before the refinement pulls
+    /// it toward the prediction: what the registration's distance from the prediction is measured
+    /// on.
+    Eigen::Isometry3d T_world_base_aligned = Eigen::Isometry3d::Identity();
     int doppler_residuals = 0;
-    /// The registered pose moved from the prediction (the adaptive threshold's correction).
     [[nodiscard]] bool fallback() const { return cause != FallbackCause::kNone; }
 };
 

@@ -32,6 +32,7 @@ ScanEstimate EstimateOf(const PlanarRegistration &reg) {
     out.registration_ms = reg.registration_ms;
     out.refinement_ms = reg.refinement_ms;
     out.registered = reg.registered;
+    out.T_world_base_aligned = reg.T_world_base_aligned;
     return out;
 }
 
@@ -132,8 +133,10 @@ std::vector<WrittenPose> RadarMapper::State::Smooth(PendingScan scan, const Moti
     in.motion_covariance = prior.covariance;
     const RegisteredPose &registered = estimate.registered;
     if (!estimate.fallback() && !estimate.first_scan && registered.valid) {
-        // A registration far from the prediction is down-weighted, not thrown away.
-        const Vector6d nu = LogSE3(prediction.T_world_base.inverse() * registered.T_world_base);
+        // A registration far from the prediction is down-weighted, not thrown away. Its distance
+        // is the alignment's (the registration alone): the refined pose has the prediction in it.
+        const Vector6d nu =
+            LogSE3(prediction.T_world_base.inverse() * estimate.T_world_base_aligned);
         const Matrix6d P_inv = CovarianceFromInformation(prediction.covariance);
         result.prior_mahalanobis_squared =
             InnovationMahalanobisSquared(nu, P_inv, registered.information, 1.0);

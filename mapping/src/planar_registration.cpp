@@ -262,6 +262,7 @@ PlanarRegistration RegisterPlanar(const Eigen::Matrix3Xd &source_base,
         matches.empty() ? 0.0 : std::sqrt(found.sum_sq / static_cast<double>(matches.size()));
     out.observability = Observability(matches);
     out.registration_ms = MillisecondsSince(t_align);
+    out.T_world_base_aligned = T_world_base_aligned;
 
     if (!converged) {
         out.cause = FallbackCause::kNotConverged;

@@ -37,6 +37,7 @@ struct PlanarRegistration {
     /// The registered pose; its covariance's held axes are the prediction's, its information
     /// zero there.
     RegisteredPose registered;
+    Eigen::Isometry3d T_world_base_aligned = Eigen::Isometry3d::Identity();  ///< the ICP alone
     double alignment_ms = 0.0, registration_ms = 0.0, refinement_ms = 0.0;
 };
 

@@ -1,4 +1,4 @@
-// Issue 33 end to end: a folder of 6-column float32 scans described with 5 columns. `dorado
+// End to end: a folder of 6-column float32 scans described with 5 columns. `dorado
 // odometry` and `dorado map` stop with one line naming the folder, 5 and 6, exit 1 and write no
 // file; `dorado info` prints the finding with its fix; the right count runs.
 #include <gtest/gtest.h>

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "dorado/config/config_keys.hpp"
+#include "config_keys.hpp"  // apps/: it gathers every layer's field lists
 #include "dorado/config/map_config.hpp"
 #include "dorado/config/odometry_config.hpp"
 
@@ -63,7 +63,7 @@ TEST(ConfigFields, DocsKeyTablesAreTheFieldLists) {
     std::ifstream file(DORADO_SOURCE_DIR "/docs/config_keys.md");
     std::stringstream text;
     text << file.rdbuf();
-    EXPECT_EQ(text.str(), ConfigKeysMarkdown())
+    EXPECT_EQ(text.str(), apps::ConfigKeysMarkdown())
         << "docs/config_keys.md is stale: run `dorado config keys > docs/config_keys.md`";
 }
 

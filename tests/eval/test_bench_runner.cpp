@@ -90,6 +90,43 @@ TEST_F(BenchRunner, FinishedJobsAreNotRunAgain) {
     EXPECT_EQ(CountLines(counter), 3);
 }
 
+TEST_F(BenchRunner, AFinishedJobOfOtherSettingsRunsAgainAndSoDoItsDependents) {
+    const std::string counter = (root_ / "counter").string();
+    const fs::path yaml = root_ / "settings.yaml";
+    std::ofstream(yaml) << "voxel_size_m: 1.0\n";
+    const auto jobs_with = [&](const std::string &a_says) {
+        std::vector<BenchJob> jobs{
+            ShellJob("a", "echo " + a_says + " >> " + counter + "; echo {} > $1/summary.json"),
+            ShellJob("b", "echo b >> " + counter + "; echo {} > $1/summary.json", {0}),
+            ShellJob("c", "echo c >> " + counter + "; echo {} > $1/summary.json")};
+        jobs[2].args.push_back(yaml.string());  // c names a settings file
+        return jobs;
+    };
+    std::vector<std::size_t> stale;
+    RunnerOptions options = Options(1);
+    options.on_stale = [&](std::size_t job) { stale.push_back(job); };
+    auto outcomes = RunJobs(jobs_with("one"), options);
+    EXPECT_EQ(CountLines(counter), 3);
+    EXPECT_TRUE(stale.empty());
+
+    // a's arguments change: a runs again, b (which reads a's output) too; c is kept.
+    outcomes = RunJobs(jobs_with("two"), options);
+    EXPECT_EQ(outcomes[0].status, JobStatus::kSucceeded);
+    EXPECT_EQ(outcomes[1].status, JobStatus::kSucceeded);
+    EXPECT_EQ(outcomes[2].status, JobStatus::kAlreadyDone);
+    EXPECT_EQ(stale, (std::vector<std::size_t>{0, 1}));
+    EXPECT_EQ(CountLines(counter), 5);
+
+    // The settings file c names changes its value: c runs again.
+    std::ofstream(yaml) << "voxel_size_m: 0.5\n";
+    stale.clear();
+    outcomes = RunJobs(jobs_with("two"), options);
+    EXPECT_EQ(outcomes[0].status, JobStatus::kAlreadyDone);
+    EXPECT_EQ(outcomes[2].status, JobStatus::kSucceeded);
+    EXPECT_EQ(stale, (std::vector<std::size_t>{2}));
+    EXPECT_EQ(CountLines(counter), 6);
+}
+
 TEST_F(BenchRunner, FailedJobLeavesNoResultAndFailsItsDependents) {
     std::vector<BenchJob> jobs{
         // Writes a partial trajectory, then dies: nothing may appear under "broken".

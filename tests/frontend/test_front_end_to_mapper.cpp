@@ -130,8 +130,8 @@ struct RolledDrive {
     }
 
     // The front end started at the true position (identity rotation: it does not know the roll)
-    // with the ground on or off; returns each scan's roll and pitch error [deg] and whether the
-    // mapper's refinement took the ground.
+    // with the ground on or off; returns each scan's roll and pitch error [deg] (the newest pose)
+    // and whether the mapper's smoother took the ground.
     struct Run {
         std::vector<Eigen::Vector2d> roll_pitch_error_deg;
         int ground_used = 0;
@@ -162,38 +162,14 @@ struct RolledDrive {
     }
 };
 
-// The ground in the mapper's prior (refinement none: the front end's prior filter): the first
-// ground observation sets the start's roll and pitch, so the map is built level with the road and
-// every pose has the true roll (measured within 0.61 deg: the registration's roll on this sparse
-// 1-s drive wanders by +-0.3 deg more with the angular-rate prior's 0.2 rad/s than with 0.5; the
-// start's error is 3 deg). Without the ground the poses keep most of the start's 3 deg error
-// (measured 2.65 to 3.37 deg).
-TEST(FrontEndToMapper, TheGroundInThePriorLevelsARolledStart) {
-    const RolledDrive drive(10);
-    FrontEndConfig config;
-    config.mapper.refinement = mapping::Refinement::kNone;
-    const RolledDrive::Run with = drive.Drive(config, true);
-    const RolledDrive::Run without = drive.Drive(config, false);
-    EXPECT_GE(with.ground_fits, 8);
-    for (std::size_t k = 0; k < drive.scans.size(); ++k) {
-        std::printf("%zu: roll, pitch error [deg] %.3f %.3f with the ground, %.3f %.3f without\n",
-                    k, with.roll_pitch_error_deg[k].x(), with.roll_pitch_error_deg[k].y(),
-                    without.roll_pitch_error_deg[k].x(), without.roll_pitch_error_deg[k].y());
-        EXPECT_LT(with.roll_pitch_error_deg[k].cwiseAbs().maxCoeff(), 0.75)
-            << k << ": roll, pitch error [deg] " << with.roll_pitch_error_deg[k].transpose();
-        EXPECT_GT(std::abs(without.roll_pitch_error_deg[k].x()), 2.0) << k;
-    }
-}
-
-// The ground in the mapper's refinement (refinement ceres, the default): the front end hands each
-// scan's road plane (GroundUp) to the mapper, whose refinement takes it on every scan with a fit
-// after the first (which starts the map at the prior). What the residual does to the pose is
-// test_mapping_ground_factor's; on this drive its weight (the road's 4 deg of slope) against the
+// The ground in the mapper's smoother: the front end hands each scan's road plane (GroundUp) to
+// the mapper, whose smoother takes it on every scan with a fit after the first (which starts the
+// map at the prior). What the residual does to the pose is test_mapping_ground_factor's and
+// test_mapping_pose_smoother's; on this drive its weight (the road's 4 deg of slope) against the
 // map's registration moves the roll by hundredths of a degree, so the handover is what is checked.
-TEST(FrontEndToMapper, TheGroundReachesTheMappersRefinement) {
+TEST(FrontEndToMapper, TheGroundReachesTheMappersSmoother) {
     const RolledDrive drive(10);
     FrontEndConfig config;
-    ASSERT_EQ(config.mapper.refinement, mapping::Refinement::kCeres);
     const RolledDrive::Run with = drive.Drive(config, true);
     const RolledDrive::Run without = drive.Drive(config, false);
     EXPECT_GE(with.ground_fits_after_first, 8);

@@ -44,7 +44,10 @@ MapRun Map(const testing::PlanarRig &rig, bool calibrate, double seconds = 24.0)
             if (run.sweeps == 1) run.first_radars = step.sweep_radars;
         }
     }
+    // The written poses: one per sweep once Finish flushes the smoother.
+    front_end.Finish();
     const Trajectory &trajectory = front_end.trajectory();
+    EXPECT_EQ(trajectory.size(), static_cast<std::size_t>(run.sweeps));
     const double t0 = 0.09, t1 = 0.1 * (cycles - 1) + 0.09;
     // The map's world is the first sweep's base frame: compare motions from there.
     const Eigen::Isometry3d truth = rig.Pose(t0).inverse() * rig.Pose(t1);

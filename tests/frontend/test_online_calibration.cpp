@@ -1,4 +1,4 @@
-// Issue 31's done-when: on a simulated drive (a weaving path through a yard of trees and posts,
+// On a simulated drive (a weaving path through a yard of trees and posts,
 // radar scans with noise and ghosts, the mapper on with the doppler prior), the online calibration
 // recovers a deliberately wrong configured s_x (x0.7, x1.3) to within 5 % and keeps a correct one
 // within 2 %; the odometry's kinematic model follows the estimate, and the calibration that is

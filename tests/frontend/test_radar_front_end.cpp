@@ -6,6 +6,7 @@
 #include <random>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "dorado/core/lie.hpp"
 #include "dorado/frontend/radar_front_end.hpp"
@@ -313,11 +314,16 @@ TEST(RadarFrontEnd, StampsOutOfOrderAreSkippedAndReset) {
     const FrontEndResult repeated = front_end.Process(scans[1]);
     EXPECT_FALSE(repeated.accepted);
     EXPECT_NE(repeated.skip_reason.find("is not after the previous scan's"), std::string::npos);
-    EXPECT_EQ(front_end.trajectory().size(), 2u);
-    // After a reset the next scan starts a new map at the given pose, with no prior.
+    EXPECT_TRUE(repeated.registration.written.empty());
+    // After a reset the next scan starts a new map at the given pose, with no prior; the reset
+    // writes the old map's poses still in its smoother: one per accepted scan, in order.
     Eigen::Isometry3d T_start = Eigen::Isometry3d::Identity();
     T_start.translation() = Eigen::Vector3d(100.0, 0.0, 0.0);
-    front_end.Reset(T_start);
+    const std::vector<mapping::WrittenPose> flushed = front_end.Reset(T_start);
+    ASSERT_EQ(flushed.size(), 2u);
+    EXPECT_EQ(flushed[0].stamp_ns, scans[0].stamp_ns);
+    EXPECT_EQ(flushed[1].stamp_ns, scans[1].stamp_ns);
+    EXPECT_EQ(front_end.trajectory().size(), 2u);
     EXPECT_FALSE(front_end.Process(scans[1]).accepted);  // still not after the last pose
     const FrontEndResult first = front_end.Process(scans[2]);
     ASSERT_TRUE(first.accepted);

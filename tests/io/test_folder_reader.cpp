@@ -134,8 +134,8 @@ TEST_F(FolderReaderTest, TimestampCountMismatchAndBadLinesAreErrors) {
     }
 }
 
-// Issue 33: RadarScenes-like files of 6 float32 columns (95..412 points) described with 5. Before,
-// the scans whose point count is a multiple of 5 were read with shifted columns.
+// RadarScenes-like files of 6 float32 columns (95..412 points) described with 5: refused, even
+// the scans whose point count is a multiple of 5 (which would read with shifted columns).
 TEST_F(FolderReaderTest, SixColumnFilesDescribedWithFiveAreRefusedWithTheCountThatFits) {
     std::mt19937 rng(33);
     std::uniform_int_distribution<std::size_t> points(95, 412);

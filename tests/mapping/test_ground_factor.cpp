@@ -104,7 +104,6 @@ struct Drifted {
         input.T_world_base_initial = T_tilted;
         input.prior = &prior;
         input.matches = &matches;
-        input.prior_output = &prior;
         input.ground = g;
         return RefinePose(input, config);
     }

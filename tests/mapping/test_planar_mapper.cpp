@@ -149,31 +149,5 @@ TEST(PlanarMapper, AGyroPriorsRollAndPitchDoNotLeaveThePlane) {
     EXPECT_LT((estimate.translation() - truth.translation()).norm(), 0.5);
 }
 
-TEST(PlanarMapper, RefusesTheRefinementsThatAreThreeDimensionalOnly) {
-    // window (the smoother) and filter (its covariance propagation) are 6-dof: the plane refuses
-    // them by name; ceres and none register in it.
-    for (const Refinement r : {Refinement::kWindow, Refinement::kFilter}) {
-        MapperConfig config;
-        config.refinement = r;
-        RadarMapper mapper(config, Extrinsics{});
-        try {
-            mapper.SetPlanar();
-            ADD_FAILURE() << ToString(r) << " was accepted in the plane";
-        } catch (const std::invalid_argument &e) {
-            EXPECT_NE(std::string(e.what()).find(std::string("refinement ") + ToString(r)),
-                      std::string::npos)
-                << e.what();
-        }
-        EXPECT_FALSE(mapper.planar());
-    }
-    for (const Refinement r : {Refinement::kCeres, Refinement::kNone}) {
-        MapperConfig config;
-        config.refinement = r;
-        RadarMapper mapper(config, Extrinsics{});
-        mapper.SetPlanar();
-        EXPECT_TRUE(mapper.planar()) << ToString(r);
-    }
-}
-
 }  // namespace
 }  // namespace dorado::mapping

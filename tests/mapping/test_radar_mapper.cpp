@@ -1,5 +1,6 @@
 // The mapper end to end on synthetic radar: dynamic masks keep movers out of the map, a one-wall
-// scene falls back to the prior, and a short drive stays within a stated RPE.
+// scene falls back to the prior, and a short drive stays within a stated RPE (the written,
+// smoothed poses, read after Finish).
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -55,6 +56,10 @@ struct DriveResult {
     double map_points_in_lane = 0;
     double mean_rpe_translation_m = 0;
     double mean_rpe_rotation_rad = 0;
+    /// The mean distance of the poses from the truth (each pose against its own, the first pose
+    /// the truth's), and of the rotations.
+    double mean_ate_m = 0;
+    double mean_ate_rad = 0;
     double prior_only_rpe_translation_m = 0;
     /// The last pose's error against the truth, of the mapper and of the Doppler prior's twists
     /// alone composed from the first pose (dead reckoning): what the map's lock removes.
@@ -64,10 +69,29 @@ struct DriveResult {
     double prior_only_final_error_rad = 0;
     int fallbacks = 0;
     /// Over the scans after the first: the largest distance from a map point a scan added, taken
-    /// back to the base frame by the scan's output pose, to the nearest of the scan's own points
-    /// (zero when the map is built from the output poses).
+    /// back to the base frame by the scan's written pose, to the nearest of the scan's own points
+    /// (zero when the map is built from the written poses), and the same taken back by the scan's
+    /// newest (filtered) pose instead.
     double map_offset_from_output_m = 0;
+    double map_offset_from_newest_m = 0;
+    std::size_t written_poses = 0;
 };
+
+// The largest distance from a point of `added_world`, taken back to the base frame by
+// T_world_base, to the nearest of the scan's own points.
+double MapOffset(const Eigen::Matrix3Xd &added_world, const Eigen::Isometry3d &T_world_base,
+                 const RadarScan &scan, const Eigen::Isometry3d &T_base_radar) {
+    double offset = 0.0;
+    for (Eigen::Index i = 0; i < added_world.cols(); ++i) {
+        const Eigen::Vector3d p_base = T_world_base.inverse() * added_world.col(i);
+        double nearest = std::numeric_limits<double>::infinity();
+        for (Eigen::Index j = 0; j < scan.size(); ++j)
+            nearest = std::min(
+                nearest, (T_base_radar * Eigen::Vector3d(scan.xyz_radar.col(j)) - p_base).norm());
+        offset = std::max(offset, nearest);
+    }
+    return offset;
+}
 
 // What the mapper is told of the moving car: nothing (every point static), the truth, or a leaky
 // Doppler mask that flags one car point in ten as moving and passes the rest as static (what a
@@ -89,7 +113,10 @@ DriveResult Drive(int scans, Mask mask, const MapperConfig &config) {
     PriorNoiseConfig noise;
 
     const Eigen::Vector3d v_car(12.0, 0.0, 0.0);
-    std::vector<Eigen::Isometry3d> estimated;
+    // The newest (filtered) poses, which the next prior starts from, and the written ones.
+    std::vector<Eigen::Isometry3d> newest;
+    std::vector<WrittenPose> written;
+    std::vector<RadarScan> scans_seen;
     Eigen::Isometry3d dead_reckoning = Eigen::Isometry3d::Identity();
     DriveResult out;
     double prior_error_sum = 0.0;
@@ -107,8 +134,8 @@ DriveResult Drive(int scans, Mask mask, const MapperConfig &config) {
             prior.T_world_base = truth[0].T_world_base;
         } else {
             const TruthSample &previous = truth[k - 1];
-            prior = PriorFromDoppler(estimated.back(), NoisyTwist(previous, rng), 0.1, noise);
-            const Eigen::Isometry3d step = estimated.back().inverse() * prior.T_world_base;
+            prior = PriorFromDoppler(newest.back(), NoisyTwist(previous, rng), 0.1, noise);
+            const Eigen::Isometry3d step = newest.back().inverse() * prior.T_world_base;
             dead_reckoning = dead_reckoning * step;
             const Eigen::Isometry3d true_step =
                 previous.T_world_base.inverse() * truth[k].T_world_base;
@@ -128,34 +155,42 @@ DriveResult Drive(int scans, Mask mask, const MapperConfig &config) {
                     input.static_mask(i) = false;
                 }
         }
-        const RegistrationResult r = mapper.Register(scan, input);
+        RegistrationResult r = mapper.Register(scan, input);
         if (getenv("DEBUG_MAPPER"))
             std::printf("scan %d: fb %d %s corr %d rms %.3f obs %.4f mah %.1f thr %.2f err %.3f\n",
                         k, r.fallback(), ToString(r.fallback_cause), r.correspondences,
                         r.fitness_rms_m, r.observability, r.prior_mahalanobis_squared,
                         r.threshold_m,
                         (truth[k].T_world_base.inverse() * r.T_world_base).translation().norm());
-        // The pose's covariance: zero at the map's origin, positive definite after it.
+        // The pose's covariance: the stiff anchor's (1e-12) at the map's origin, positive
+        // definite after it.
         if (k == 0)
-            EXPECT_TRUE(r.covariance.isZero());
+            EXPECT_LT(r.covariance.cwiseAbs().maxCoeff(), 1e-9);
         else
             EXPECT_GT(
                 Eigen::SelfAdjointEigenSolver<Matrix6d>(r.covariance).eigenvalues().minCoeff(), 0.0)
                 << "scan " << k;
-        estimated.push_back(r.T_world_base);
-        if (k > 0) {
-            for (Eigen::Index i = 0; i < r.map_points_added_world.cols(); ++i) {
-                const Eigen::Vector3d p_base =
-                    r.T_world_base.inverse() * r.map_points_added_world.col(i);
-                double nearest = std::numeric_limits<double>::infinity();
-                for (Eigen::Index j = 0; j < scan.size(); ++j)
-                    nearest = std::min(
-                        nearest,
-                        (extrinsics.T_base_radar * Eigen::Vector3d(scan.xyz_radar.col(j)) - p_base)
-                            .norm());
-                out.map_offset_from_output_m = std::max(out.map_offset_from_output_m, nearest);
-            }
-        }
+        newest.push_back(r.T_world_base);
+        scans_seen.push_back(scan);
+        for (WrittenPose &pose : r.written) written.push_back(std::move(pose));
+    }
+    for (WrittenPose &pose : mapper.Finish()) written.push_back(std::move(pose));
+    // One written pose per scan, in scan order, each scan's points in the map at it.
+    out.written_poses = written.size();
+    EXPECT_EQ(written.size(), static_cast<std::size_t>(scans));
+    if (written.size() != static_cast<std::size_t>(scans)) return out;
+    std::vector<Eigen::Isometry3d> estimated;
+    for (int k = 0; k < scans; ++k) {
+        EXPECT_EQ(written[k].stamp_ns, scans_seen[k].stamp_ns) << k;
+        estimated.push_back(written[k].T_world_base);
+        if (k == 0) continue;
+        const Eigen::Matrix3Xd &added = written[k].map_points_added_world;
+        out.map_offset_from_output_m =
+            std::max(out.map_offset_from_output_m,
+                     MapOffset(added, written[k].T_world_base, scans_seen[k], extrinsics.T_base_radar));
+        out.map_offset_from_newest_m =
+            std::max(out.map_offset_from_newest_m,
+                     MapOffset(added, newest[k], scans_seen[k], extrinsics.T_base_radar));
     }
     for (int k = 1; k < scans; ++k) {
         const Eigen::Isometry3d true_step =
@@ -164,6 +199,9 @@ DriveResult Drive(int scans, Mask mask, const MapperConfig &config) {
         const Eigen::Isometry3d e = true_step.inverse() * step;
         out.mean_rpe_translation_m += e.translation().norm() / (scans - 1);
         out.mean_rpe_rotation_rad += RotationAngle(e.linear()) / (scans - 1);
+        const Eigen::Isometry3d a = truth[k].T_world_base.inverse() * estimated[k];
+        out.mean_ate_m += a.translation().norm() / (scans - 1);
+        out.mean_ate_rad += RotationAngle(a.linear()) / (scans - 1);
     }
     out.prior_only_rpe_translation_m = prior_error_sum / (scans - 1);
     const Eigen::Isometry3d error = truth[scans - 1].T_world_base.inverse() * estimated.back();
@@ -191,16 +229,14 @@ DriveResult Drive(int scans, bool use_mask, const MapperConfig &config) {
     return Drive(scans, use_mask ? Mask::kTrue : Mask::kNone, config);
 }
 
-DriveResult Drive(int scans, bool use_mask, Refinement refinement) {
-    MapperConfig config;
-    config.refinement = refinement;
-    return Drive(scans, use_mask, config);
+DriveResult Drive(int scans, bool use_mask) {
+    return Drive(scans, use_mask, MapperConfig{});
 }
 
 // One scan's input: the prior and the interval, no masks.
 TEST(RadarMapper, MaskKeepsTheMovingCarOutOfTheMap) {
-    const DriveResult without = Drive(15, false, Refinement::kNone);
-    const DriveResult with = Drive(15, true, Refinement::kNone);
+    const DriveResult without = Drive(15, false);
+    const DriveResult with = Drive(15, true);
     EXPECT_GT(without.map_points_in_lane, 20) << "the car should be in an unmasked map";
     EXPECT_LE(with.map_points_in_lane, 2) << "the mask should keep the car out";
 }
@@ -210,7 +246,6 @@ TEST(RadarMapper, MaskKeepsTheMovingCarOutOfTheMap) {
 // car's passed-as-static points fill its lane.
 TEST(RadarMapper, MoverRulesKeepALeakilyMaskedCarOutOfTheMap) {
     MapperConfig config;
-    config.refinement = Refinement::kNone;
     config.movers.neighbour_radius_m = 1.0;  // both rules (each is off by default)
     config.movers.memory_s = 2.0;
     MapperConfig off = config;
@@ -237,7 +272,7 @@ TEST(RadarMapper, MoverRulesKeepALeakilyMaskedCarOutOfTheMap) {
 }
 
 TEST(RadarMapper, ShortDriveStaysWithinStatedRpe) {
-    const DriveResult r = Drive(40, true, Refinement::kCeres);
+    const DriveResult r = Drive(40, true);
     std::printf("RPE per frame: %.4f m, %.4f deg; Doppler prior alone %.4f m; fallbacks %d\n",
                 r.mean_rpe_translation_m, RadToDeg(r.mean_rpe_rotation_rad),
                 r.prior_only_rpe_translation_m, r.fallbacks);
@@ -254,51 +289,51 @@ TEST(RadarMapper, ShortDriveStaysWithinStatedRpe) {
     EXPECT_LT(r.mean_rpe_rotation_rad, DegToRad(0.15));
     EXPECT_EQ(r.fallbacks, 0);
     // What the registration adds: the map holds the pose where the prior's twists alone drift.
-    // Measured after 40 scans (30 m): 0.092 m, 0.40 deg against 0.277 m, 0.87 deg; with the
-    // registration taken out of the output, the two are equal and this fails.
+    // Measured after 40 scans (30 m): 0.074 m, 0.16 deg against 0.277 m, 0.87 deg (0.092 m,
+    // 0.40 deg before the smoother); with the registration taken out of the output, the two are
+    // equal and this fails.
     EXPECT_LT(r.final_error_m, 0.5 * r.prior_only_final_error_m);
     EXPECT_LT(r.final_error_rad, 0.75 * r.prior_only_final_error_rad);
 }
 
-// The window smoother (refinement: window) on the same drive: the same stated accuracy, and at
-// least as good as the single-pose refinement per frame (its purpose).
-TEST(RadarMapper, WindowSmootherShortDrive) {
-    const DriveResult window = Drive(40, true, Refinement::kWindow);
-    const DriveResult single = Drive(40, true, Refinement::kCeres);
-    std::printf("window RPE per frame: %.4f m, %.4f deg (ceres %.4f m, %.4f deg); fallbacks %d\n",
-                window.mean_rpe_translation_m, RadToDeg(window.mean_rpe_rotation_rad),
-                single.mean_rpe_translation_m, RadToDeg(single.mean_rpe_rotation_rad),
-                window.fallbacks);
-    EXPECT_LT(window.mean_rpe_translation_m, 0.01);
-    EXPECT_LT(window.mean_rpe_rotation_rad, DegToRad(0.15));
-    EXPECT_EQ(window.fallbacks, 0);
-    // Measured 1.1 mm, 0.076 deg against 3.6 mm, 0.086 deg.
-    EXPECT_LT(window.mean_rpe_translation_m, single.mean_rpe_translation_m);
-    EXPECT_LT(window.mean_rpe_rotation_rad, single.mean_rpe_rotation_rad);
+// The smoother's purpose on the same drive: the written poses, smoothed by the scans on both
+// sides of them (lag 1 s), are closer to the truth than the same estimator written at once (lag 0,
+// a filter), at the stated accuracy. Measured: mean error 0.0500 m, 0.800 deg against 0.0515 m,
+// 0.884 deg. Per frame the two are the Doppler prior's (RPE 5.26 mm, 0.1065 deg against 5.22 mm,
+// 0.1041 deg): the relative motion is not where the smoothing helps, so per frame the smoothed
+// poses are only held within 5 % of the filtered.
+TEST(RadarMapper, SmoothedPosesBeatTheFilteredOnTheShortDrive) {
+    MapperConfig filter;
+    filter.smoother.lag_s = 0.0;
+    const DriveResult smoothed = Drive(40, true, MapperConfig{});
+    const DriveResult filtered = Drive(40, true, filter);
+    std::printf("smoothed RPE per frame: %.4f m, %.4f deg (filtered %.4f m, %.4f deg); fallbacks %d\n",
+                smoothed.mean_rpe_translation_m, RadToDeg(smoothed.mean_rpe_rotation_rad),
+                filtered.mean_rpe_translation_m, RadToDeg(filtered.mean_rpe_rotation_rad),
+                smoothed.fallbacks);
+    std::printf("smoothed mean error: %.4f m, %.4f deg (filtered %.4f m, %.4f deg)\n",
+                smoothed.mean_ate_m, RadToDeg(smoothed.mean_ate_rad), filtered.mean_ate_m,
+                RadToDeg(filtered.mean_ate_rad));
+    EXPECT_LT(smoothed.mean_rpe_translation_m, 0.01);
+    EXPECT_LT(smoothed.mean_rpe_rotation_rad, DegToRad(0.15));
+    EXPECT_EQ(smoothed.fallbacks, 0);
+    EXPECT_LT(smoothed.mean_ate_m, filtered.mean_ate_m);
+    EXPECT_LT(smoothed.mean_ate_rad, filtered.mean_ate_rad);
+    EXPECT_LT(smoothed.mean_rpe_translation_m, 1.05 * filtered.mean_rpe_translation_m);
+    EXPECT_LT(smoothed.mean_rpe_rotation_rad, 1.05 * filtered.mean_rpe_rotation_rad);
 }
 
-// refinement filter with filter_builds_map: one chain, the map built from the filter's (output)
-// poses, at the stated accuracy; without it (two chains) the map is placed by the registered poses,
-// millimetres to centimetres from the output's.
-TEST(RadarMapper, FilterBuildsTheMapFromItsOwnPoses) {
-    MapperConfig config;
-    config.refinement = Refinement::kFilter;
-    config.filter_builds_map = true;
-    const DriveResult one = Drive(40, true, config);
-    config.filter_builds_map = false;
-    const DriveResult two = Drive(40, true, config);
-    std::printf(
-        "one chain: RPE per frame %.4f m, %.4f deg, last pose %.4f m, map offset %.2e m; "
-        "two chains: %.4f m, %.4f deg, %.4f m, map offset %.2e m\n",
-        one.mean_rpe_translation_m, RadToDeg(one.mean_rpe_rotation_rad), one.final_error_m,
-        one.map_offset_from_output_m, two.mean_rpe_translation_m,
-        RadToDeg(two.mean_rpe_rotation_rad), two.final_error_m, two.map_offset_from_output_m);
-    EXPECT_LT(one.map_offset_from_output_m, 1e-6);
-    EXPECT_GT(two.map_offset_from_output_m, 1e-4);
-    EXPECT_LT(one.mean_rpe_translation_m, 0.01);
-    EXPECT_LT(one.mean_rpe_rotation_rad, DegToRad(0.15));
-    EXPECT_LT(one.final_error_m, 0.5 * one.prior_only_final_error_m);
-    EXPECT_EQ(one.fallbacks, 0);
+// One chain: every scan enters the map at its written pose (the map offset from it is rounding);
+// taken back by the newest, filtered pose instead, the points are millimetres to centimetres off
+// (the smoothing's correction, so the check can fail). 25 scans: the property does not depend on
+// the drive's length.
+TEST(RadarMapper, TheMapIsBuiltFromTheWrittenPoses) {
+    const DriveResult r = Drive(25, true, MapperConfig{});
+    std::printf("map offset from the written poses %.2e m, from the newest %.2e m\n",
+                r.map_offset_from_output_m, r.map_offset_from_newest_m);
+    EXPECT_EQ(r.written_poses, 25u);
+    EXPECT_LT(r.map_offset_from_output_m, 1e-6);
+    EXPECT_GT(r.map_offset_from_newest_m, 1e-4);
 }
 
 TEST(RadarMapper, OneWallFallsBackToThePrior) {
@@ -334,7 +369,8 @@ TEST(RadarMapper, OneWallFallsBackToThePrior) {
     EXPECT_TRUE(r.fallback());
     EXPECT_EQ(r.fallback_cause, FallbackCause::kDegenerate) << ToString(r.fallback_cause);
     EXPECT_TRUE(r.T_world_base.isApprox(prior.T_world_base));
-    EXPECT_TRUE(r.covariance.isApprox(prior.covariance));  // the prior's, as its pose
+    // The prior's, as its pose, plus the origin's (the smoother's stiff anchor, 1e-12).
+    EXPECT_LT((r.covariance - prior.covariance).cwiseAbs().maxCoeff(), 1e-9);
     EXPECT_LT(r.observability, MapperConfig{}.min_observability);
     std::printf("one wall: observability %.5f\n", r.observability);
     EXPECT_EQ(mapper.fallbacks(), 1);

@@ -140,7 +140,7 @@ class DoradoRos(unittest.TestCase):
         self.assertEqual(len(mapped), len(self.map), err)
         self.assertEqual(summary["dropped"], {}, err)
         # With the mapper on, the node's Doppler odometry takes the map's online yaw lever
-        # (odometry.online_calibration, docs/attitude.md section 5) from the first update on,
+        # (odometry.online_calibration, docs/design/attitude.md section 5) from the first update on,
         # which `dorado odometry` (no map) cannot have: compare it over the calibration's warmup.
         first = min(stamp for stamp, _, _, _ in odom)
         warmup_ns = 5_000_000_000

@@ -129,7 +129,7 @@ struct EgoVelocityConfig {
     /// error drops from 3.9/4.3 to 2.9/3.0 deg (docs/attitude.md). The default:
     /// over 3 simulator seeds of each of the 10 built-in sequences it wins pooled (ATE rotation
     /// 17.0 -> 15.4 deg, ATE 1.98 -> 0.76 m) and loses none by more than the seeds' noise
-    /// (docs/attitude.md, section 6).
+    /// (docs/design/attitude.md, section 6).
     bool compensate_direction_noise = true;
 
     // --- validity ---

@@ -22,7 +22,7 @@ struct YawCalibrationConfig {
     /// Estimate s_x online and feed it back to the kinematic model (the odometry and the next
     /// priors). false: the configured s_x throughout (the paper). On by default:
     /// the doppler-prior maps' yaw drift -69 %, ATE rotation -58 % pooled over the 10 built-in
-    /// sequences, no sequence worse beyond the seeds' noise (docs/attitude.md, section 7).
+    /// sequences, no sequence worse beyond the seeds' noise (docs/design/attitude.md, section 7).
     bool enabled = true;
     /// No measurement in the map's first seconds (a young map registers worse; on hills_slopes its
     /// first windows pushed s_x to the clamp) [s].

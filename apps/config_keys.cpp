@@ -1,12 +1,13 @@
-#include "dorado/config/config_keys.hpp"
+#include "config_keys.hpp"
 
 #include "bench_plan.hpp"
 #include "dorado/config/map_config.hpp"
 #include "dorado/config/odometry_config.hpp"
 #include "dorado/io/dataset_config.hpp"
+#include "dorado/io/field_yaml.hpp"
 #include "dorado/sim/sequence_config.hpp"
 
-namespace dorado::config {
+namespace dorado::apps {
 
 std::string ConfigKeysMarkdown() {
     return "# Configuration keys\n\n"
@@ -17,18 +18,18 @@ std::string ConfigKeysMarkdown() {
            "files' comments.\n\n"
            "## configs/odometry.yaml (`dorado odometry --config`, `dorado map "
            "--odometry-config`)\n\n" +
-           MarkdownTable(OdometryConfigFields()) +
+           io::MarkdownTable(config::OdometryConfigFields()) +
            "\n## configs/mapper.yaml (`dorado map --config`)\n\n" +
-           MarkdownTable(MapConfigFields()) +
+           io::MarkdownTable(config::MapConfigFields()) +
            "\n## Dataset descriptions (configs/hugin.yaml, configs/nuscenes.yaml, ...: the DATASET "
            "argument)\n\nPaths are relative to the file; a reader refuses the sections of the "
            "other readers. See docs/datasets.md.\n\n" +
-           MarkdownTable(io::DatasetConfigFields()) +
+           io::MarkdownTable(io::DatasetConfigFields()) +
            "\n## Simulated sequences (configs/sequences/*.yaml: `dorado simulate --sequence`)\n\n" +
-           MarkdownTable(sim::SequenceConfigFields()) +
+           io::MarkdownTable(sim::SequenceConfigFields()) +
            "\n## Benchmarks (configs/benchmark_*.yaml: `dorado bench`)\n\n`grid:` maps "
            "`odometry:` and `map:` keys of the tables above to lists of values.\n\n" +
-           MarkdownTable(apps::BenchConfigFields());
+           io::MarkdownTable(BenchConfigFields());
 }
 
-}  // namespace dorado::config
+}  // namespace dorado::apps

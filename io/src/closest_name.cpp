@@ -1,11 +1,13 @@
-#include "edit_distance.hpp"
+#include "dorado/io/closest_name.hpp"
 
 #include <algorithm>
 
 namespace dorado::io {
 
+namespace {
+
+/// Levenshtein distance: insertions, deletions and substitutions, one row at a time.
 std::size_t EditDistance(const std::string &a, const std::string &b) {
-    // One row of the distance table at a time.
     std::vector<std::size_t> row(b.size() + 1);
     for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
     for (std::size_t i = 1; i <= a.size(); ++i) {
@@ -20,19 +22,20 @@ std::size_t EditDistance(const std::string &a, const std::string &b) {
     return row[b.size()];
 }
 
-std::optional<std::string> ClosestName(const std::string &typed,
-                                       const std::vector<std::string> &names,
-                                       std::size_t max_edits) {
-    std::optional<std::string> best;
-    std::size_t best_distance = max_edits + 1;
-    for (const std::string &name : names) {
-        const std::size_t d = EditDistance(name, typed);
-        if (d < best_distance) {
-            best_distance = d;
-            best = name;
+}  // namespace
+
+std::string ClosestName(const std::string &name, const std::vector<std::string> &known,
+                        std::size_t max_edits) {
+    std::string closest;
+    std::size_t best = max_edits + 1;
+    for (const auto &k : known) {
+        const std::size_t d = EditDistance(k, name);
+        if (d < best) {
+            best = d;
+            closest = k;
         }
     }
-    return best;
+    return closest;
 }
 
 }  // namespace dorado::io
