@@ -11,6 +11,8 @@
 #include <random>
 #include <sstream>
 
+#include "dorado/testing/run_command.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -62,21 +64,9 @@ class CmdFolderLayout : public ::testing::Test {
     static std::string Five() { return Description("x, y, z, rcs, v_r"); }
     static std::string Six() { return Description("x, y, z, rcs, v_r, label"); }
 
-    struct Result {
-        int code = -1;
-        std::string out, err;
-    };
+    using Result = dorado::testing::CommandResult;
     static Result Dorado(const std::string &args) {
-        const std::string out = (dir_ / "stdout.txt").string(),
-                          err = (dir_ / "stderr.txt").string();
-        const int status = std::system(
-            (std::string(DORADO_BINARY) + " " + args + " > " + out + " 2> " + err).c_str());
-        auto slurp = [](const std::string &path) {
-            std::stringstream ss;
-            ss << std::ifstream(path).rdbuf();
-            return ss.str();
-        };
-        return {WEXITSTATUS(status), slurp(out), slurp(err)};
+        return dorado::testing::RunCommand(std::string(DORADO_BINARY) + " " + args, dir_);
     }
     // Regular files under `out` (the command may have made the folder itself).
     static int FilesIn(const fs::path &out) {

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "dorado/testing/run_command.hpp"
 #include "output_folder.hpp"
 
 namespace {
@@ -23,21 +24,9 @@ class CmdUsage : public ::testing::Test {
     }
     static void TearDownTestSuite() { fs::remove_all(dir_); }
 
-    struct Result {
-        int code = -1;
-        std::string out, err;
-    };
+    using Result = dorado::testing::CommandResult;
     static Result Dorado(const std::string &args) {
-        const std::string out = (dir_ / "stdout.txt").string(),
-                          err = (dir_ / "stderr.txt").string();
-        const int status = std::system(
-            (std::string(DORADO_BINARY) + " " + args + " > " + out + " 2> " + err).c_str());
-        auto slurp = [](const std::string &path) {
-            std::stringstream ss;
-            ss << std::ifstream(path).rdbuf();
-            return ss.str();
-        };
-        return {WEXITSTATUS(status), slurp(out), slurp(err)};
+        return dorado::testing::RunCommand(std::string(DORADO_BINARY) + " " + args, dir_);
     }
     static bool Has(const std::string &text, const std::string &part) {
         return text.find(part) != std::string::npos;
