@@ -184,7 +184,21 @@ void ReadRadars(const YAML::Node &root, FieldReader &in, const std::string &yaml
 // looked for beside radarscenes.sequence_dir as --data or data_dir: resolved it. The chosen folder
 // replaces the description's among the inputs RequireInputs checks.
 void ApplyChoice(DatasetConfig &config, const DatasetChoice &choice) {
-    ApplyDatasetChoice(config, choice);
+    try {
+        ApplyDatasetChoice(config, choice);
+    } catch (const ConfigError &e) {
+        // No folder beside a relative sequence_dir that is not there: say where it was taken from.
+        std::error_code ec;
+        for (const DatasetInput &input : config.inputs) {
+            if (input.key != "radarscenes.sequence_dir" || fs::exists(input.path, ec) ||
+                fs::path(input.written).is_absolute())
+                continue;
+            throw ConfigError(std::string(e.what()) + " (radarscenes.sequence_dir " +
+                              input.written + " is a relative path " + DescribePathBase(config) +
+                              "; pass --data DIR with the folder that holds it)");
+        }
+        throw;
+    }
     for (DatasetInput &input : config.inputs)
         if (input.key == "radarscenes.sequence_dir") input.path = config.radarscenes.sequence_dir;
 }
