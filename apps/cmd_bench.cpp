@@ -34,6 +34,7 @@ namespace {
 struct BenchOptions {
     std::string config_path = "configs/benchmark_paper.yaml";
     std::string out_dir;
+    std::string data_dir;  ///< --data: the folder the sequences' data: are taken from
     std::size_t jobs = 0;
     bool no_plot = false;
     std::string reference;      ///< empty: the config's
@@ -70,7 +71,7 @@ std::string Plot(const std::string &out_dir) {
 }
 
 BenchConfig LoadConfig(const BenchOptions &o) {
-    BenchConfig config = LoadBenchConfig(FindConfig(o.config_path));
+    BenchConfig config = LoadBenchConfig(FindConfig(o.config_path), o.data_dir);
     if (o.jobs > 0) config.jobs = o.jobs;
     if (!o.reference.empty()) config.reference = ParseBenchReference(o.reference);
     if (!o.association.empty()) config.association = eval::ParseAssociationMethod(o.association);
@@ -248,6 +249,8 @@ void RunBench(const BenchOptions &o) {
     if (o.run_one.empty() && !o.score_only) WriteAndCheckVariantConfigs(config, out_dir);
     if (o.plan_only) return PrintPlan(runs, out_dir);
     if (!o.run_one.empty()) return RunOne(runs, o.run_one, out_dir);
+    // Every input of every run before the first: a missing one stops here, named.
+    if (!o.score_only) CheckBenchInputs(config);
     const std::vector<JobOutcome> outcomes =
         o.score_only ? OutcomesOnDisk(runs) : RunAll(runs, config, out_dir);
     PrepareOutputFolder(out_dir, OutputKind::kBench);  // the report's files; runs/ stays
@@ -266,6 +269,11 @@ void RegisterBenchCommand(CLI::App &app) {
         "(grid: in the YAML) makes every point a variant of each method.");
     cmd->add_option("config", options->config_path, "benchmark YAML")->capture_default_str();
     cmd->add_option("--out", options->out_dir, "output directory")->required();
+    cmd->add_option("--data", options->data_dir,
+                    "the folder that the sequences' relative data: folders are taken from "
+                    "(default: the benchmark file's data_dir:, else its folder); each run gets its "
+                    "sequence's data: as --data")
+        ->type_name("DIR");
     cmd->add_option("--jobs", options->jobs,
                     "parallel runs (default: the config's, else all cores)");
     cmd->add_flag("--no-plot", options->no_plot, "skip the figures");

@@ -23,7 +23,7 @@ namespace dorado::apps {
 namespace {
 
 struct CalibrateOptions {
-    std::string step, dataset, out, config;
+    std::string step, dataset, data, out, config;
     double from_s = -1.0, to_s = -1.0;
     double min_speed_mps = 0.2;
     double window_s = 0.5, rest_s = 1.0;  // doppler-sign
@@ -176,7 +176,7 @@ void RunDopplerSign(const CalibrateOptions &opt, const io::DatasetConfig &datase
 }
 
 void RunCalibrate(const CalibrateOptions &opt) {
-    const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset, opt.choice);
+    const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset, opt.data, opt.choice);
     if (opt.step == "doppler-sign") {
         if (!HasImu(dataset))
             throw io::ConfigError(opt.dataset + ": key '" + ImuKey(dataset) +
@@ -242,6 +242,7 @@ void RegisterCalibrateCommand(CLI::App &app) {
            "DATASET", opt->dataset,
            "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")
         ->required();
+    AddDataOption(cmd, opt->data);
     cmd->add_option("--from", opt->from_s, "start [s from the first scan]");
     cmd->add_option("--to", opt->to_s, "end [s from the first scan]");
     cmd->add_option("--out", opt->out, "YAML snippet to write")->required();

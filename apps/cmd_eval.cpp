@@ -1,4 +1,5 @@
 // `dorado eval --gt GT.tum --est EST.tum`: RPE and ATE of one trajectory against its ground truth.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -9,6 +10,7 @@
 #include "commands.hpp"
 #include "dorado/eval/absolute_trajectory_error.hpp"
 #include "dorado/eval/association.hpp"
+#include "dorado/eval/end_point_error.hpp"
 #include "dorado/eval/kitti_drift.hpp"
 #include "dorado/eval/relative_pose_error.hpp"
 #include "dorado/io/atomic_file.hpp"
@@ -92,10 +94,25 @@ void RunEval(const EvalOptions &o) {
         ate_stats = eval::ComputeStatistics(ate->translation_m);
         PrintRow(o.sim3 ? "ate_sim3 [m]" : "ate_se3 [m]", ate_stats);
     }
-    const eval::DriftResult drift = eval::ComputeKittiDrift(poses);
+    const eval::EndPointError end = eval::ComputeEndPointError(poses);
+    std::printf(
+        "end_point_error          %.3f m, %.3f %% of the reference's %.1f m path (start "
+        "poses aligned)\n",
+        end.error_m, end.percent, end.path_length_m);
+    const eval::DriftConfig drift_config;
+    const eval::DriftResult drift = eval::ComputeKittiDrift(poses, drift_config);
+    const double shortest_m =
+        *std::min_element(drift_config.lengths_m.begin(), drift_config.lengths_m.end());
     if (drift.segments > 0)
-        std::printf("kitti_drift (100-800 m)  %.3f %% translation, %.3f deg/100 m rotation, %d segments\n",
-                    drift.translation_percent, drift.rotation_deg_per_100m, drift.segments);
+        std::printf(
+            "kitti_drift (100-800 m)  %.3f %% translation, %.3f deg/100 m rotation, %d "
+            "segments\n",
+            drift.translation_percent, drift.rotation_deg_per_100m, drift.segments);
+    else
+        std::printf(
+            "kitti_drift (100-800 m)  none: the reference's path is %.1f m, not longer "
+            "than the shortest segment (%.0f m)\n",
+            end.path_length_m, shortest_m);
     if (o.json_path.empty()) return;
     nlohmann::json j = {
         {"gt", o.gt_path},
@@ -109,10 +126,17 @@ void RunEval(const EvalOptions &o) {
         {"rpe_translation_m_per_pair", rpe.translation_m},
         {"rpe_rotation_deg_per_pair", rpe.rotation_deg},
     };
+    j["end_point_error"] = {
+        {"error_m", end.error_m},
+        {"path_length_m", end.path_length_m},
+        {"percent", std::isfinite(end.percent) ? nlohmann::json(end.percent) : nlohmann::json()}};
     if (drift.segments > 0) {
         j["kitti_drift"] = {{"translation_percent", drift.translation_percent},
                             {"rotation_deg_per_100m", drift.rotation_deg_per_100m},
                             {"segments", drift.segments}};
+    } else {
+        j["kitti_drift_none"] = "the reference's path is shorter than " +
+                                std::to_string(static_cast<int>(shortest_m)) + " m";
     }
     if (ate) {
         j["ate_m"] = ToJson(ate_stats);
@@ -128,8 +152,10 @@ void RegisterEvalCommand(CLI::App &app) {
     auto options = std::make_shared<EvalOptions>();
     CLI::App *cmd = app.add_subcommand(
         "eval",
-        "Relative pose error (evo's definition: E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j)) and ATE of an "
-        "estimated TUM trajectory against a ground-truth TUM trajectory.");
+        "Relative pose error (evo's definition: E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j)), ATE, the "
+        "end-point error (start poses aligned; m and % of the reference's path) and the KITTI "
+        "drift (translation % and rotation deg/100 m over 100..800 m segments, the KITTI devkit's "
+        "definition) of an estimated TUM trajectory against a ground-truth TUM trajectory.");
     cmd->add_option("--gt", options->gt_path, "ground truth, TUM format")->required();
     cmd->add_option("--est", options->est_path, "estimate, TUM format")->required();
     cmd->add_option("--delta", options->delta, "RPE pair distance")->capture_default_str();

@@ -25,6 +25,7 @@ class ProblemLog {
         auto &entry = problems_[kind];
         if (entry.count++ < kExamples) entry.examples.push_back(example);
     }
+    [[nodiscard]] bool Has(const std::string &kind) const { return problems_.count(kind) > 0; }
     void Print() const {
         if (problems_.empty()) {
             std::printf("problems: none found\n");
@@ -75,7 +76,35 @@ void PrintTopics(const std::vector<io::TopicSummary> &topics, const io::DatasetC
     }
 }
 
-// The `radars:` list (several radars on one vehicle): each one's mount and scans.
+// One radar of the `radars:` list read through: its layout, every scan file, its times. Each
+// problem is named with the radar's name.
+void CheckRadarScans(const io::DatasetConfig &one, const std::string &name, ProblemLog &problems) {
+    if (const auto layout = io::CheckFolderLayout(one)) {
+        problems.Add("radars whose scan files do not fit the description",
+                     name + ": " + layout->message + " (fix: " + layout->fix + ")");
+        return;
+    }
+    auto reader = io::OpenDataset(one);
+    io::DatasetEvent event;
+    int64_t last_ns = INT64_MIN;
+    while (reader->Next(event)) {
+        const std::string where = name + " scan " + std::to_string(event.scan_index);
+        if (event.kind == io::DatasetEvent::Kind::kBadScan) {
+            problems.Add("unreadable scans", name + ": " + event.problem);
+        } else if (event.kind == io::DatasetEvent::Kind::kRadarScan) {
+            if (event.stamp_ns <= last_ns) problems.Add("radar time not increasing", where);
+            last_ns = event.stamp_ns;
+            if (event.removed_nonfinite_points > 0)
+                problems.Add(
+                    "scans with NaN/Inf points (removed)",
+                    where + ": " + std::to_string(event.removed_nonfinite_points) + " points");
+            if (event.scan.empty()) problems.Add("empty scans", where);
+        }
+    }
+}
+
+// The `radars:` list (several radars on one vehicle): each one's mount, and its scans read
+// through as the first radar's are (dorado map and dorado twist read them all).
 void PrintRadars(const io::DatasetConfig &config, ProblemLog &problems) {
     if (config.radars.empty()) return;
     std::printf("radars: %zu (the radars: list; dorado map and dorado twist read them all)\n",
@@ -92,6 +121,7 @@ void PrintRadars(const io::DatasetConfig &config, ProblemLog &problems) {
             const io::TopicSummary scans = io::ListTopics(one).front();
             std::printf(", %zu scans, %.2f s, %.2f Hz\n", scans.messages,
                         NanosToSeconds(scans.last_ns - scans.first_ns), Rate(scans));
+            CheckRadarScans(one, radar.name, problems);
         } catch (const std::exception &e) {
             std::printf(", unreadable\n");
             problems.Add("radars that cannot be read", radar.name + ": " + e.what());
@@ -118,8 +148,9 @@ std::string DescribeSource(const io::DatasetConfig &config) {
     return "";
 }
 
-int RunInfo(const std::string &dataset_arg, const io::DatasetChoice &choice) {
-    const io::DatasetConfig config = io::ResolveDataset(dataset_arg, choice);
+int RunInfo(const std::string &dataset_arg, const std::string &data_dir,
+            const io::DatasetChoice &choice) {
+    const io::DatasetConfig config = io::ResolveDataset(dataset_arg, data_dir, choice);
     const bool is_bag = config.reader == io::ReaderKind::kRosbag;
     std::printf("dataset: %s (%s)\n", config.name.c_str(), DescribeSource(config).c_str());
     // A layout the folder's files do not fit: every scan would be refused or read wrongly.
@@ -291,7 +322,12 @@ int RunInfo(const std::string &dataset_arg, const io::DatasetChoice &choice) {
     }
     PrintRadars(config, problems);
     problems.Print();
-    return 0;
+    // A radar whose folder is refused (as the first radar's above) or cannot be read: exit 1;
+    // the other problems are reported, the scans they name skipped.
+    return problems.Has("radars that cannot be read") ||
+                   problems.Has("radars whose scan files do not fit the description")
+               ? 1
+               : 0;
 }
 
 }  // namespace
@@ -300,15 +336,17 @@ void RegisterInfoCommand(CLI::App &app) {
     auto *cmd = app.add_subcommand(
         "info", "Print what a dataset holds: topics, scan rate, points per scan, fields, problems");
     auto dataset = std::make_shared<std::string>();
+    auto data_dir = std::make_shared<std::string>();
     auto choice = std::make_shared<io::DatasetChoice>();
     cmd->add_option(
            "DATASET", *dataset,
            "dataset description (.yaml), a recording (ROS1 .bag, rosbag2 .db3 or .mcap, or a "
            "rosbag2 folder), or a folder with dataset.yaml")
         ->required();
+    AddDataOption(cmd, *data_dir);
     AddDatasetChoiceOptions(*cmd, *choice);
-    cmd->callback([dataset, choice]() {
-        const int code = RunInfo(*dataset, *choice);
+    cmd->callback([dataset, data_dir, choice]() {
+        const int code = RunInfo(*dataset, *data_dir, *choice);
         if (code != 0) throw CLI::RuntimeError(code);
     });
 }

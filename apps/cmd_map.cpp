@@ -23,6 +23,7 @@ namespace {
 
 struct MapOptions {
     std::string dataset, out, config, odometry_config, prior = "doppler", radars = "all";
+    std::string data;  // --data DIR
     bool no_mask = false, masks = false, fixed_mounts = false;
     io::DatasetChoice choice;  // --scene, --sequence
 };
@@ -60,8 +61,9 @@ frontend::FrontEndConfig FrontEndConfigOf(const MapOptions &opt,
 
 void RunMap(const MapOptions &opt) {
     const io::DatasetConfig dataset =
-        opt.radars == "all" ? io::ResolveDataset(opt.dataset, opt.choice)
-                            : SelectRadar(io::ResolveDataset(opt.dataset, opt.choice), opt.radars);
+        opt.radars == "all"
+            ? io::ResolveDataset(opt.dataset, opt.data, opt.choice)
+            : SelectRadar(io::ResolveDataset(opt.dataset, opt.data, opt.choice), opt.radars);
     const dorado::config::MapCommandConfig map_config =
         opt.config.empty() ? dorado::config::MapCommandConfig{}
                            : dorado::config::LoadMapConfig(opt.config);
@@ -130,6 +132,7 @@ void RegisterMapCommand(CLI::App &app) {
            "DATASET", opt->dataset,
            "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")
         ->required();
+    AddDataOption(cmd, opt->data);
     cmd->add_option("--out", opt->out, "output folder")->required();
     AddDatasetChoiceOptions(*cmd, opt->choice);
     cmd->add_option("--prior", opt->prior,

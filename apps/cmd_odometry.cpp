@@ -25,7 +25,7 @@ namespace dorado::apps {
 namespace {
 
 struct OdometryOptions {
-    std::string dataset, out, config, method, rotation, radars;
+    std::string dataset, data, out, config, method, rotation, radars;
     bool masks = false;
     io::DatasetChoice choice;  // --scene, --sequence
 };
@@ -121,7 +121,7 @@ std::string CauseList(const std::map<odometry::FallbackCause, int> &causes) {
 
 void RunOdometry(const OdometryOptions &opt) {
     const io::DatasetConfig dataset =
-        SelectRadar(io::ResolveDataset(opt.dataset, opt.choice), opt.radars);
+        SelectRadar(io::ResolveDataset(opt.dataset, opt.data, opt.choice), opt.radars);
     const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "odometry");
     frontend::FrontEndConfig config;
     config.run_mapper = false;
@@ -237,6 +237,7 @@ void RegisterOdometryCommand(CLI::App &app) {
            "DATASET", opt->dataset,
            "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")
         ->required();
+    AddDataOption(cmd, opt->data);
     cmd->add_option("--out", opt->out, "output folder")->required();
     AddDatasetChoiceOptions(*cmd, opt->choice);
     cmd->add_option("--config", opt->config,

@@ -33,7 +33,7 @@ namespace dorado::apps {
 namespace {
 
 struct TwistOptions {
-    std::string dataset, out, config;
+    std::string dataset, data, out, config;
     bool fixed_mounts = false;
     io::DatasetChoice choice;  // --scene, --sequence
 };
@@ -44,7 +44,7 @@ struct RadarCounts {
 };
 
 void RunTwist(const TwistOptions &opt) {
-    const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset, opt.choice);
+    const io::DatasetConfig dataset = io::ResolveDataset(opt.dataset, opt.data, opt.choice);
     if (dataset.radars.size() < 2)
         throw io::ConfigError(opt.dataset +
                               ": key 'radars': dorado twist needs a list of >= 2 radars (name, "
@@ -156,6 +156,7 @@ void RegisterTwistCommand(CLI::App &app) {
         "dataset's radars: list");
     cmd->add_option("DATASET", opt->dataset, "dataset description (.yaml) with radars:")
         ->required();
+    AddDataOption(cmd, opt->data);
     cmd->add_option("--out", opt->out, "output folder")->required();
     AddDatasetChoiceOptions(*cmd, opt->choice);
     cmd->add_option("--config", opt->config, "odometry settings (its ego_velocity section)");

@@ -29,7 +29,11 @@ void VisitFields(BenchSequence &c, Visitor &&v) {
     v("simulate.seed", c.seed, "--seed");
     v("simulate.duration_s", c.duration_s, "--duration [s] (>= 0; 0: the sequence's own)");
     v("dataset", c.dataset, kPath, "recorded data: a dataset description or a bag");
-    v("ground_truth", c.ground_truth, kPath, "recorded data: its TUM ground truth");
+    v("data", c.data,
+      "recorded data: the folder given to its runs as --data (the description's relative paths "
+      "are taken from it); relative: to data_dir; empty: the description's own paths");
+    v("ground_truth", c.ground_truth, kPath,
+      "recorded data: its TUM ground truth; absent: the description's ground_truth.path");
     v("odometry", c.odometry_methods, odometry::OdometryMethodChoices(),
       "this sequence's odometry methods; absent: the benchmark's");
     v("map_priors", c.map_priors, mapping::PriorKindChoices(),
@@ -44,6 +48,9 @@ void VisitFields(BenchConfig &c, Visitor &&v) {
     v("map_priors", c.map_priors, mapping::PriorKindChoices(), "mapper priors (paper Fig. 6, 7)");
     v("odometry_config", c.odometry_config, kPath, "--config of `dorado odometry`; empty: none");
     v("map_config", c.map_config, kPath, "--config of `dorado map`; empty: none");
+    v("data_dir", c.data_dir, kPath,
+      "the folder the sequences' relative data: are taken from, relative to this file; absent: "
+      "this file's folder; `dorado bench --data DIR` replaces it");
     v("jobs", c.jobs, "parallel runs; 0: the number of cores");
     v("association", c.association, AssociationMethodChoices(),
       "ground truth at each estimated stamp: interpolated, or evo's nearest");

@@ -12,6 +12,7 @@
 #include "bench_fields.hpp"
 #include "dorado/config/map_config.hpp"
 #include "dorado/config/odometry_config.hpp"
+#include "dorado/io/dataset_config.hpp"
 #include "dorado/io/field_yaml.hpp"
 
 namespace dorado::apps {
@@ -22,7 +23,7 @@ namespace {
 
 // One entry of `sequences:`, by BenchSequence's field list.
 BenchSequence ParseSequence(const YAML::Node &node, std::size_t index, const std::string &base_dir,
-                            const std::string &origin) {
+                            const std::string &data_root, const std::string &origin) {
     io::FieldReader in(io::YamlSection(node, origin, "sequences[" + std::to_string(index) + "]"),
                        base_dir);
     BenchSequence s;
@@ -41,11 +42,25 @@ BenchSequence ParseSequence(const YAML::Node &node, std::size_t index, const std
             s.simulate_sequence = io::ResolvePath(s.simulate_sequence, base_dir);
         s.dataset.clear();  // simulated: the simulation's dataset.yaml
         s.ground_truth.clear();
+        s.data.clear();
     } else {
         s.simulate_sequence.clear();
-        if (s.dataset.empty() || s.ground_truth.empty())
-            in.Fail("dataset",
-                    "a sequence needs `simulate:` or both `dataset:` and `ground_truth:`");
+        if (s.dataset.empty()) in.Fail("dataset", "a sequence needs `simulate:` or `dataset:`");
+        s.data = io::ResolvePath(s.data, data_root);
+        const std::string ext = fs::path(s.dataset).extension().string();
+        if (s.ground_truth.empty() && (ext == ".yaml" || ext == ".yml")) {
+            std::error_code ec;
+            if (!s.data.empty() && !fs::is_directory(s.data, ec))
+                in.Fail("data", s.data + ": no such folder (relative paths taken from " +
+                                    data_root + ": change data:, data_dir: or --data DIR)");
+            try {  // the description's reference, its path resolved as the runs resolve it
+                s.ground_truth = io::LoadDatasetConfig(s.dataset, s.data).ground_truth.path;
+            } catch (const std::exception &e) {
+                in.Fail("dataset", e.what());
+            }
+        }
+        if (s.ground_truth.empty())
+            in.Fail("ground_truth", "is required: " + s.dataset + " names no ground_truth.path");
     }
     return s;
 }
@@ -82,6 +97,15 @@ std::vector<GridAxis> ParseGrid(io::YamlSection &grid, const YAML::Node &node,
     return axes;
 }
 
+// A run's arguments with --data DIR when its sequence names a data folder.
+std::vector<std::string> WithData(std::vector<std::string> args, const std::string &data) {
+    if (!data.empty()) {
+        args.push_back("--data");
+        args.push_back(data);
+    }
+    return args;
+}
+
 std::string FormatNumber(double value) {
     std::ostringstream os;
     os << value;
@@ -91,7 +115,7 @@ std::string FormatNumber(double value) {
 }  // namespace
 
 BenchConfig ParseBenchConfig(const std::string &yaml_text, const std::string &base_dir,
-                             const std::string &origin) {
+                             const std::string &origin, const std::string &data_dir) {
     YAML::Node node;
     try {
         node = YAML::Load(yaml_text);
@@ -105,9 +129,16 @@ BenchConfig ParseBenchConfig(const std::string &yaml_text, const std::string &ba
         node["sequences"].size() == 0) {
         root.Fail("sequences", "a non-empty list of sequences is required");
     }
+    // The sequences' data: are taken from --data DIR, else data_dir:, else this file's folder.
+    root("data_dir", config.data_dir, kPath, "");
+    const std::string data_root = !data_dir.empty()
+                                      ? io::ResolvePath(fs::absolute(data_dir).string(), "")
+                                  : !config.data_dir.empty() ? config.data_dir
+                                                             : base_dir;
     std::set<std::string> names;
     for (std::size_t i = 0; i < node["sequences"].size(); ++i) {
-        config.sequences.push_back(ParseSequence(node["sequences"][i], i, base_dir, origin));
+        config.sequences.push_back(
+            ParseSequence(node["sequences"][i], i, base_dir, data_root, origin));
         if (!names.insert(config.sequences.back().name).second) {
             root.Fail("sequences[" + std::to_string(i) + "].name",
                       "repeats '" + config.sequences.back().name + "'");
@@ -140,12 +171,35 @@ std::vector<io::FieldRow> BenchConfigFields() {
     return rows;
 }
 
-BenchConfig LoadBenchConfig(const std::string &path) {
+BenchConfig LoadBenchConfig(const std::string &path, const std::string &data_dir) {
     std::ifstream in(path);
     if (!in) throw std::runtime_error(path + ": cannot open the benchmark configuration");
     std::stringstream text;
     text << in.rdbuf();
-    return ParseBenchConfig(text.str(), fs::path(path).parent_path().string(), path);
+    return ParseBenchConfig(text.str(), fs::path(path).parent_path().string(), path, data_dir);
+}
+
+void CheckBenchInputs(const BenchConfig &config) {
+    const auto require = [](const std::string &path, const std::string &what) {
+        std::error_code ec;
+        if (!path.empty() && !fs::exists(path, ec))
+            throw std::runtime_error(what + ": " + path + ": no such file or folder");
+    };
+    require(config.odometry_config, "odometry_config");
+    require(config.map_config, "map_config");
+    for (const BenchSequence &seq : config.sequences) {
+        if (!seq.simulate_sequence.empty()) continue;
+        const std::string where = "sequence '" + seq.name + "'";
+        std::error_code ec;
+        if (!seq.data.empty() && !fs::is_directory(seq.data, ec))
+            throw std::runtime_error(where + ": data: " + seq.data + ": no such folder");
+        try {
+            (void)io::ResolveDataset(seq.dataset, seq.data);  // every path the runs will open
+        } catch (const std::exception &e) {
+            throw std::runtime_error(where + ": " + e.what());
+        }
+        require(seq.ground_truth, where + ": ground_truth");
+    }
 }
 
 void WriteVariantConfigs(const BenchConfig &config, const std::string &out_dir) {
@@ -221,7 +275,8 @@ std::vector<BenchRun> PlanBenchmark(const BenchConfig &config, const std::string
                  seq.odometry_methods.value_or(config.odometry_methods)) {
                 // The paper's three: gyro-only rotation ("IMU"), Doppler only, IMU + Doppler.
                 add_run(RunKind::kOdometry, std::string("odom_") + ToString(m) + suffix,
-                        {"odometry", dataset, "--out", "{out}", "--method", ToString(m)},
+                        WithData({"odometry", dataset, "--out", "{out}", "--method", ToString(m)},
+                                 seq.data),
                         run_config, m != odometry::OdometryMethod::kImu);
             }
         }
@@ -232,7 +287,9 @@ std::vector<BenchRun> PlanBenchmark(const BenchConfig &config, const std::string
             const std::string suffix = variant.name.empty() ? "" : "@" + variant.name;
             for (const mapping::PriorKind prior : seq.map_priors.value_or(config.map_priors)) {
                 add_run(RunKind::kMap, std::string("map_") + ToString(prior) + suffix,
-                        {"map", dataset, "--prior", ToString(prior), "--out", "{out}"}, run_config);
+                        WithData({"map", dataset, "--prior", ToString(prior), "--out", "{out}"},
+                                 seq.data),
+                        run_config);
             }
         }
     }

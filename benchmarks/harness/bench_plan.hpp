@@ -31,6 +31,7 @@ struct BenchSequence {
     double duration_s = 0.0;  ///< 0: the simulator's default
     // Existing data (when simulate_sequence is empty).
     std::string dataset;
+    std::string data;  ///< --data of its runs (resolved); empty: the description's own paths
     std::string ground_truth;
     /// This sequence's own method lists (`odometry:`, `map_priors:` in its entry), e.g. without
     /// the IMU priors for a recording without an IMU; empty = the benchmark's lists.
@@ -60,6 +61,9 @@ struct BenchConfig {
                                                std::end(mapping::kAllPriorKinds)};
     std::string odometry_config;  ///< optional --config for `dorado odometry`
     std::string map_config;       ///< optional --config for `dorado map`
+    /// The folder the sequences' relative `data:` are taken from (resolved; empty: the bench
+    /// file's folder).
+    std::string data_dir;
     /// Parameter grids (YAML `grid: {odometry: {...}, map: {...}}`): dotted keys of the
     /// odometry / map config file, each with a list of values; every point is a variant.
     std::vector<GridAxis> odometry_grid;
@@ -75,12 +79,20 @@ struct BenchConfig {
     BenchReference reference = BenchReference::kGroundTruth;
 };
 
-/// Reads and validates the YAML file; relative paths in it are taken from the file's directory.
-/// Throws std::runtime_error naming the file and the key.
-[[nodiscard]] BenchConfig LoadBenchConfig(const std::string &path);
+/// Reads and validates the YAML file; relative paths in it are taken from the file's directory,
+/// the sequences' `data:` from @p data_dir when given (`dorado bench --data DIR`), else from the
+/// file's `data_dir:`. Throws std::runtime_error naming the file and the key.
+[[nodiscard]] BenchConfig LoadBenchConfig(const std::string &path,
+                                          const std::string &data_dir = "");
 /// Same, from YAML text; `base_dir` resolves relative paths, `origin` names the source in errors.
 [[nodiscard]] BenchConfig ParseBenchConfig(const std::string &yaml_text,
-                                           const std::string &base_dir, const std::string &origin);
+                                           const std::string &base_dir, const std::string &origin,
+                                           const std::string &data_dir = "");
+
+/// Checks every input of every recorded sequence before the first run: its dataset (a
+/// description's every path, as its runs will resolve them), its ground truth, the settings
+/// files. Throws std::runtime_error naming the sequence, the key and the missing path.
+void CheckBenchInputs(const BenchConfig &config);
 
 /// Every key of the bench file with its built-in default and doc (`sequences[].` an entry's;
 /// `grid:` not: config keys to lists of values).

@@ -3,7 +3,7 @@
 
     benchmarks/real/perturb_mounts.py write DATASET.yaml OUT.yaml [--delta-deg 0.5] [--sign 1]
         A copy of the description with every radar's yaw turned by +-delta (alternating, the first
-        by sign * delta) and every path made absolute.
+        by sign * delta), its data_dir: made absolute.
     benchmarks/real/perturb_mounts.py compare RUN_DIR PERTURBED_RUN_DIR [--delta-deg 0.5] [--sign 1]
         Each radar's recovered yaw (published + the run's estimated offset, summary.json) in the
         perturbed run against the unperturbed run's: one table row, the largest difference [deg].
@@ -32,19 +32,11 @@ def write(args):
     with open(args.dataset) as f:
         config = yaml.safe_load(f)
 
-    def absolute(node):
-        for key, value in node.items():
-            if isinstance(value, dict):
-                absolute(value)
-            elif isinstance(value, str) and key in ("path", "scans_dir", "timestamps_file"):
-                node[key] = os.path.normpath(os.path.join(base, value)) if value else value
-
-    absolute(config)
+    # The copy lives elsewhere: its relative paths are taken from the original's data folder.
+    config["data_dir"] = os.path.normpath(os.path.join(base, config.get("data_dir") or "."))
     radars = config.get("radars") or []
     if len(radars) < 2:
         raise SystemExit("%s: key 'radars': needs a list of >= 2 radars" % args.dataset)
-    for radar in radars:
-        absolute(radar)
     for radar, d in zip(radars, deltas(len(radars), args.delta_deg, args.sign)):
         mount = radar["T_base_radar"]
         yaw = yaw_deg(mount) + d
@@ -65,7 +57,7 @@ def compare(args):
     # The perturbed run starts from published + d; it recovers published + d + offset.
     diffs = [(p["mount_yaw_offset_deg"] + dk) - u["mount_yaw_offset_deg"]
              for u, p, dk in zip(runs[0], runs[1], d)]
-    print("| %s | %s | %.3f |" % (args.perturbed_run_dir,
+    print("| %s | %s | %.3f |" % (os.path.basename(os.path.normpath(args.perturbed_run_dir)),
                                  ", ".join("%s %+.3f" % (r["name"], x) for r, x in zip(runs[0], diffs)),
                                  max(abs(x) for x in diffs)))
 

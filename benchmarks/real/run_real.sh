@@ -1,19 +1,27 @@
 #!/bin/bash
-# The real 2D-radar recordings (../shared/data/real/, README there) scored against their
-# references (benchmarks/real/score_real.py, one table row each):
+# The real recordings (../shared/data/real/, README there) run and scored, every measured number of
+# docs/real_recordings.md and docs/multi_radar.md written to one generated file that those pages
+# quote (tests/docs/test_quoted_tables.cpp fails when a page and the file disagree):
 #   - one radar: `dorado odometry` (planar, Doppler only) and `dorado map --prior doppler` on
 #     RadarScenes 105 (each of its four radars alone) and on nuScenes scene-0061's front radar;
 #   - every radar: `dorado twist` (the twist filter, each radar at its own time) and `dorado map`
 #     (every radar into one map) on RadarScenes 105 (4 radars) and nuScenes 0061 (5 radars), with
 #     the mounts calibrated online (default) and with the published ones (--fixed-mounts);
 #   - the mounts perturbed: every radar's yaw turned by +-0.5 deg (alternating, both ways), mapped
-#     again; the recovered yaws against the unperturbed run's (perturb_mounts.py compare).
-#   benchmarks/real/run_real.sh [OUT_DIR] [DORADO]      (from the repository root, ~2 minutes)
+#     again; the recovered yaws against the unperturbed run's (perturb_mounts.py compare);
+#   - the TI hand-held bag: odometry, map, loop closure; nuScenes' prior matrix (dorado bench).
+# Each run is scored by `dorado eval` (ATE, RPE, end-point error, KITTI drift; score_real.py adds
+# the velocity and mask scores). Then the pages' quoted tables are refreshed from the file.
+#   benchmarks/real/run_real.sh [OUT_DIR] [DORADO] [GENERATED]   (from the repository root, ~3 minutes)
+#   GENERATED defaults to docs/generated/real_recordings.md
+#   TABLES_ONLY=1 benchmarks/real/run_real.sh OUT_DIR ...   the tables again from the runs in OUT_DIR
 set -euo pipefail
 out=${1:-out/real}
 dorado=${2:-build/apps/dorado}
-mkdir -p "$out"
+generated=${3:-docs/generated/real_recordings.md}
+mkdir -p "$out" "$(dirname "$generated")"
 score=benchmarks/real/score_real.py
+tables=benchmarks/real/doc_tables.py
 perturb=benchmarks/real/perturb_mounts.py
 rs=configs/radarscenes_all.yaml
 nu=configs/nuscenes.yaml
@@ -27,58 +35,111 @@ row() {  # row DATASET NAME TITLE [score args]
     /usr/bin/python3 $score "$1" "$out/$2" --dorado "$dorado" --name "$3" "${@:4}"
 }
 
-run rs_odo odometry configs/radarscenes.yaml --masks
-run nu_odo odometry $nu --masks
-for r in radar1 radar2 radar3 radar4; do run rs_map_$r map $rs --radars $r; done
-run rs_map_radar3_automotive map $rs --radars radar3 --config configs/mapper_automotive.yaml
-run nu_map_front map $nu --radars first
-for d in rs nu; do
-    cfg=$rs; [ $d = nu ] && cfg=$nu
-    run ${d}_twist twist $cfg
-    run ${d}_twist_fixed twist $cfg --fixed-mounts
-    run ${d}_map map $cfg
-    run ${d}_map_fixed map $cfg --fixed-mounts
-    for sign in 1 -1; do
-        /usr/bin/python3 $perturb write $cfg "$out/${d}_perturbed$sign.yaml" --sign $sign
-        run ${d}_map_perturbed$sign map "$out/${d}_perturbed$sign.yaml"
-        run ${d}_map_perturbed${sign}_fixed map "$out/${d}_perturbed$sign.yaml" --fixed-mounts
-    done
-done
-
-echo "One radar"
-row configs/radarscenes.yaml rs_odo "RadarScenes 105 radar 3, odometry (doppler)" --labels radarscenes --header
-for r in radar1 radar2 radar3 radar4; do row $rs rs_map_$r "RadarScenes 105 $r, map --prior doppler"; done
-row $rs rs_map_radar3_automotive "RadarScenes 105 radar3, map, mapper_automotive.yaml"
-row $nu nu_odo "nuScenes 0061 front, odometry (doppler)" --labels nuscenes
-row $nu nu_map_front "nuScenes 0061 front, map --prior doppler"
-echo
-echo "Every radar (twist: the filter's dead reckoning; map: every radar into one map)"
-row $rs rs_twist "RadarScenes 105, 4 radars, twist" --header
-row $rs rs_twist_fixed "RadarScenes 105, 4 radars, twist --fixed-mounts"
-row $nu nu_twist "nuScenes 0061, 5 radars, twist"
-row $nu nu_twist_fixed "nuScenes 0061, 5 radars, twist --fixed-mounts"
-echo
-row $rs rs_map "RadarScenes 105, 4 radars, map" --header
-row $rs rs_map_fixed "RadarScenes 105, 4 radars, map --fixed-mounts"
-row $nu nu_map "nuScenes 0061, 5 radars, map"
-row $nu nu_map_fixed "nuScenes 0061, 5 radars, map --fixed-mounts"
-for d in rs nu; do
-    for sign in 1 -1; do
-        for tag in "" _fixed; do
-            row "$out/${d}_perturbed$sign.yaml" ${d}_map_perturbed$sign$tag \
-                "$d, every mount +-0.5 deg (sign $sign), map${tag:+ --fixed-mounts}"
+if [ -z "${TABLES_ONLY:-}" ]; then
+    run rs_odo odometry configs/radarscenes.yaml --masks
+    run nu_odo odometry $nu --masks
+    for r in radar1 radar2 radar3 radar4; do run rs_map_$r map $rs --radars $r; done
+    run rs_map_radar3_automotive map $rs --radars radar3 --config configs/mapper_automotive.yaml
+    run nu_map_front map $nu --radars first
+    run nu_map_front_automotive map $nu --radars first --config configs/mapper_automotive.yaml
+    for d in rs nu; do
+        cfg=$rs; [ $d = nu ] && cfg=$nu
+        run ${d}_twist twist $cfg
+        run ${d}_twist_fixed twist $cfg --fixed-mounts
+        run ${d}_map map $cfg
+        run ${d}_map_fixed map $cfg --fixed-mounts
+        for sign in 1 -1; do
+            /usr/bin/python3 $perturb write $cfg "$out/${d}_perturbed$sign.yaml" --sign $sign
+            run ${d}_map_perturbed$sign map "$out/${d}_perturbed$sign.yaml"
+            run ${d}_map_perturbed${sign}_fixed map "$out/${d}_perturbed$sign.yaml" --fixed-mounts
         done
     done
-done
-echo
-echo "Recovered mount yaws, perturbed run minus unperturbed run [deg] (largest last)"
-for d in rs nu; do
-    for sign in 1 -1; do
-        /usr/bin/python3 $perturb compare "$out/${d}_map" "$out/${d}_map_perturbed$sign" --sign $sign
+    ti=configs/ti_mmwave.yaml
+    run ti_odo odometry $ti --method imu+doppler
+    run ti_map map $ti --prior imu+doppler --config configs/mapper_sparse.yaml
+    run ti_map_constvel map $ti --prior constvel --config configs/mapper_sparse.yaml
+    rm -rf "$out/bench_real"
+    "$dorado" bench configs/benchmark_real.yaml --no-plot --out "$out/bench_real" 2> "$out/bench_real.log"
+fi
+
+table() {  # table NAME: the markers around one table of the generated file
+    echo
+    echo "## $1"
+    echo
+    echo "<!-- table $1 -->"
+}
+end_table() { echo "<!-- end table -->"; }
+{
+    echo "# Real recordings: the measured tables"
+    echo
+    echo "Generated by \`benchmarks/real/run_real.sh\` with $("$dorado" --version); do not edit. docs/real_recordings.md"
+    echo "and docs/multi_radar.md quote these tables (\`benchmarks/real/doc_tables.py quote\` copies them there)."
+
+    table automotive_one_radar
+    row configs/radarscenes.yaml rs_odo "RadarScenes 105 radar 3, odometry (doppler)" --labels radarscenes --header
+    row $rs rs_map_radar3 "RadarScenes 105 radar 3, map --prior doppler"
+    row $rs rs_map_radar3_automotive "RadarScenes 105 radar 3, map --prior doppler, mapper_automotive.yaml"
+    row $nu nu_odo "nuScenes 0061 front, odometry (doppler)" --labels nuscenes
+    row $nu nu_map_front "nuScenes 0061 front, map --prior doppler"
+    row $nu nu_map_front_automotive "nuScenes 0061 front, map --prior doppler, mapper_automotive.yaml"
+    row $nu nu_twist "nuScenes 0061, twist of all 5 radars (dorado twist, dead-reckoned)"
+    end_table
+
+    table automotive_one_radar_each
+    first=--header
+    for r in 1 2 3 4; do
+        row $rs rs_map_radar$r "RadarScenes 105 radar $r alone, map" $first
+        first=
     done
-done
-echo
-echo "Time per sweep / scan [ms]"
-for name in nu_map_front nu_map rs_map_radar3 rs_map; do
-    /usr/bin/python3 -c "import json,sys; s=json.load(open(sys.argv[1])); t=s['time_per_scan_ms']; print('%s: mean %.3f median %.3f p95 %.3f' % (sys.argv[2], t['mean'], t['median'], t['p95']))" "$out/$name/summary.json" $name
-done
+    end_table
+
+    table automotive_every_radar
+    row $nu nu_map "nuScenes 0061, 5 radars, map (mounts calibrated)" --header
+    row $nu nu_map_fixed "nuScenes 0061, 5 radars, map, published mounts"
+    row $nu nu_twist "nuScenes 0061, 5 radars, twist (mounts calibrated)"
+    row $nu nu_twist_fixed "nuScenes 0061, 5 radars, twist, published mounts"
+    row $rs rs_map "RadarScenes 105, 4 radars, map (mounts calibrated)"
+    row $rs rs_map_fixed "RadarScenes 105, 4 radars, map, published mounts"
+    row $rs rs_twist "RadarScenes 105, 4 radars, twist (mounts calibrated)"
+    row $rs rs_twist_fixed "RadarScenes 105, 4 radars, twist, published mounts"
+    end_table
+
+    table automotive_perturbed_mounts
+    first=--header
+    for d in nu rs; do
+        name="nuScenes 0061"; [ $d = rs ] && name="RadarScenes 105"
+        for sign in 1 -1; do
+            for tag in "" _fixed; do
+                row "$out/${d}_perturbed$sign.yaml" ${d}_map_perturbed$sign$tag \
+                    "$name, every mount +-0.5 deg (sign $sign), map${tag:+, published mounts}" $first
+                first=
+            done
+        done
+    done
+    end_table
+
+    table recovered_mount_yaws
+    echo "| run | recovered yaw, perturbed minus unperturbed run, per radar [deg] | largest [deg] |"
+    echo "|---|---|---:|"
+    for d in nu rs; do
+        for sign in 1 -1; do
+            /usr/bin/python3 $perturb compare "$out/${d}_map" "$out/${d}_map_perturbed$sign" --sign $sign
+        done
+    done
+    end_table
+
+    table sweep_times
+    /usr/bin/python3 $tables times "$out" nu_map_front nu_map rs_map_radar3 rs_map
+    end_table
+
+    table ti_mmwave
+    /usr/bin/python3 $tables ti "$out"
+    end_table
+
+    table nuscenes_prior_matrix
+    /usr/bin/python3 $tables bench "$out/bench_real/results.md" nuscenes_0061
+    end_table
+} > "$generated.tmp"
+mv "$generated.tmp" "$generated"
+/usr/bin/python3 $tables quote "$generated" docs/real_recordings.md docs/multi_radar.md
+echo "wrote $generated; the quoted tables of docs/real_recordings.md and docs/multi_radar.md refreshed"

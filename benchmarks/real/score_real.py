@@ -4,8 +4,8 @@
     benchmarks/real/score_real.py DATASET.yaml RUN_DIR [--dorado build/apps/dorado] [--labels radarscenes|nuscenes]
 
 RUN_DIR holds trajectory.tum, and for odometry velocities.csv and masks/ (dorado odometry --masks).
-Prints one table row: ATE (SE(3) alignment), RPE per second, the KITTI drift over 100-800 m
-(from `dorado eval`), the base velocity and yaw-rate RMSE per scan against the reference
+Prints one table row: ATE (SE(3) alignment), RPE per second, the end-point error and the KITTI
+drift over 100-800 m (all four from `dorado eval`), the base velocity and yaw-rate RMSE per scan against the reference
 differentiated (central differences of the reference's poses at the scan times), and the dynamic
 mask's precision and recall for moving points, judged two ways:
   - by label: RadarScenes label != 11 (a class of road user, also when parked); nuScenes dyn_prop
@@ -64,9 +64,14 @@ def dorado_eval(dorado, gt, est):
             return json.load(f)
 
 
+def data_path(config_dir, config, path):
+    """A description's path as dorado resolves it without --data: from its data_dir:, else its folder."""
+    return os.path.join(config_dir, config.get("data_dir") or ".", path)
+
+
 def mask_scores(config_dir, config, run_dir, labels_kind, t_scans, v_radar_ref):
     folder = config["folder"]
-    scans_dir = os.path.join(config_dir, folder["scans_dir"])
+    scans_dir = data_path(config_dir, config, folder["scans_dir"])
     files = sorted(f for f in os.listdir(scans_dir) if f.endswith(".bin"))
     counts = {"label": np.zeros(4), "reference": np.zeros(4)}  # tp fp fn tn
     for k, name in enumerate(files):
@@ -107,23 +112,14 @@ def main():
     config_dir = os.path.dirname(os.path.abspath(args.dataset))
     with open(args.dataset) as f:
         config = yaml.safe_load(f)
-    gt = os.path.join(config_dir, config["ground_truth"]["path"])
+    gt = data_path(config_dir, config, config["ground_truth"]["path"])
     est = os.path.join(args.run_dir, "trajectory.tum")
     ev = dorado_eval(args.dorado, gt, est)
     t_ref, p_ref, yaw_ref = read_tum(gt)
-    t_est, p_est, _ = read_tum(est)
-    path = np.sum(np.linalg.norm(np.diff(p_ref[(t_ref >= t_est[0]) & (t_ref <= t_est[-1])], axis=0), axis=1))
+    end = ev["end_point_error"]  # start poses aligned; % of the reference's path
     row = {"ate_m": ev["ate_m"]["rmse"], "rpe_t_m": ev["rpe_translation_m"]["rmse"],
-           "rpe_r_deg": ev["rpe_rotation_deg"]["rmse"], "path_m": path}
-    # End-point error with the first poses made to coincide (SE(2)), in % of the reference path.
-    yaw_est = read_tum(est)[2]
-    i0 = np.searchsorted(t_ref, t_est[0])
-    p0, y0 = np.array([np.interp(t_est[0], t_ref, p_ref[:, k]) for k in (0, 1)]), np.interp(t_est[0], t_ref, yaw_ref)
-    p1 = np.array([np.interp(t_est[-1], t_ref, p_ref[:, k]) for k in (0, 1)])
-    def rot(a):
-        return np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
-    end_est = p0 + rot(y0) @ rot(-yaw_est[0]) @ (p_est[-1] - p_est[0])
-    row["end_pct"] = 100.0 * np.linalg.norm(end_est - p1) / max(path, 1e-9)
+           "rpe_r_deg": ev["rpe_rotation_deg"]["rmse"], "path_m": end["path_length_m"],
+           "end_pct": end["percent"], "end_m": end["error_m"]}
     drift = ev.get("kitti_drift", {})
     row["drift_pct"] = drift.get("translation_percent", float("nan"))
     row["drift_deg100"] = drift.get("rotation_deg_per_100m", float("nan"))
@@ -163,14 +159,15 @@ def main():
         row["w_rmse_pair"] = "%.3f / %.3f (%d)" % (
             np.degrees(np.sqrt(np.mean((v["omega_z"] - w_ref)[both] ** 2))),
             np.degrees(np.sqrt(np.mean((v["kinematic_omega_z"] - w_ref)[both] ** 2))), both.sum())
-    cols = ["path_m", "valid", "ate_m", "rpe_t_m", "rpe_r_deg", "drift_pct", "drift_deg100", "end_pct",
+    cols = ["path_m", "valid", "ate_m", "rpe_t_m", "rpe_r_deg", "drift_pct", "drift_deg100", "end_pct", "end_m",
             "v_rmse", "w_rmse_dps", "mask_label", "mask_ref"]
     heads = ["path [m]", "valid", "ATE [m]", "RPE 1 s [m]", "RPE 1 s [deg]", "drift [%]",
-             "drift [deg/100 m]", "end [% path]", "v RMSE [m/s]", "yaw rate RMSE [deg/s]",
+             "drift [deg/100 m]", "end [% path]", "end [m]", "v RMSE [m/s]", "yaw rate RMSE [deg/s]",
              "moving P / R (label)", "moving P / R (reference)"]
-    if "w_rmse_pair" in row:
-        cols.append("w_rmse_pair")
-        heads.append("yaw rate RMSE joint / kinematic, same scans [deg/s]")
+    # dorado twist only (else "-"): one column set for every run, so that rows of runs of both kinds
+    # make one table.
+    cols.append("w_rmse_pair")
+    heads.append("twist: yaw rate RMSE joint / kinematic, same scans [deg/s]")
     if args.header:
         print("| run | " + " | ".join(heads) + " |")
         print("|---|" + "---:|" * len(heads))

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <tuple>
+#include <utility>
 
 #include "dataset_formats.hpp"
 #include "dorado/io/dataset_fields.hpp"
@@ -153,10 +154,10 @@ void CheckFields(FieldReader &in, DatasetConfig &config) {
     CheckRadarSensor(in, config.radar);
 }
 
-// `radars:` (reader folder): each radar's keys are RadarStream's field list.
+// `radars:` (reader folder): each radar's keys are RadarStream's field list, its paths taken from
+// @p base_dir. A misspelt key is named before the keys it leaves missing.
 void ReadRadars(const YAML::Node &root, FieldReader &in, const std::string &yaml_path,
                 const std::string &base_dir, DatasetConfig &config) {
-    if (!in.Has("radars")) return;
     const YAML::Node list = root["radars"];
     if (!list.IsSequence()) in.Fail("radars", "must be a list of radars");
     if (config.reader != ReaderKind::kFolder)
@@ -164,18 +165,83 @@ void ReadRadars(const YAML::Node &root, FieldReader &in, const std::string &yaml
                 "needs reader: folder (readers radarscenes and nuscenes list their "
                 "radars from the data set's own files)");
     for (std::size_t k = 0; k < list.size(); ++k) {
-        FieldReader item(YamlSection(list[k], yaml_path, "radars[" + std::to_string(k) + "]"),
-                         base_dir);
+        const std::string where = "radars[" + std::to_string(k) + "]";
+        FieldReader item(YamlSection(list[k], yaml_path, where), base_dir);
         RadarStream radar;
         radar.name = "radar" + std::to_string(k);
         VisitFields(radar, item);
+        item.RejectUnknownKeys();
         if (radar.scans_dir.empty()) item.Fail("scans_dir", "is required");
         if (radar.timestamps_file.empty()) item.Fail("timestamps_file", "is required");
         if (!item.Has("T_base_radar")) item.Fail("T_base_radar", "is required (the mount)");
-        item.RejectUnknownKeys();
+        for (const auto &path : item.paths_read())
+            config.inputs.push_back({where + "." + path.key, path.written, path.resolved});
         config.radars.push_back(radar);
     }
 }
+
+// --scene / --sequence over the description's scene or sequence (dataset_formats.cpp), a sequence
+// looked for beside radarscenes.sequence_dir as --data or data_dir: resolved it. The chosen folder
+// replaces the description's among the inputs RequireInputs checks.
+void ApplyChoice(DatasetConfig &config, const DatasetChoice &choice) {
+    try {
+        ApplyDatasetChoice(config, choice);
+    } catch (const ConfigError &e) {
+        // No folder beside a relative sequence_dir that is not there: say where it was taken from.
+        std::error_code ec;
+        for (const DatasetInput &input : config.inputs) {
+            if (input.key != "radarscenes.sequence_dir" || fs::exists(input.path, ec) ||
+                fs::path(input.written).is_absolute())
+                continue;
+            throw ConfigError(std::string(e.what()) + " (radarscenes.sequence_dir " +
+                              input.written + " is a relative path " + DescribePathBase(config) +
+                              "; pass --data DIR with the folder that holds it)");
+        }
+        throw;
+    }
+    for (DatasetInput &input : config.inputs)
+        if (input.key == "radarscenes.sequence_dir") input.path = config.radarscenes.sequence_dir;
+}
+
+// `reader:` absent: the default (rosbag) only for a description with a `rosbag:` section;
+// otherwise it is asked for by name, with the reader whose section the description has.
+void RequireReader(const YAML::Node &root, FieldReader &in) {
+    if (in.Has("reader") || in.Has("rosbag")) return;
+    std::string hint;
+    for (const char *section : {"folder", "radarscenes", "nuscenes"}) {
+        if (root.IsMap() && root[section].IsDefined() && !root[section].IsNull()) {
+            hint = std::string(" (this description has a ") + section +
+                   ": section: add reader: " + section + ")";
+            break;
+        }
+    }
+    in.Fail("reader", "is required: rosbag, folder, radarscenes or nuscenes" + hint);
+}
+
+// The reader of the description's fields: after data_dir (the first path of the field list),
+// the relative paths are taken from the data folder.
+struct DescriptionReader {
+    FieldReader &in;
+    std::string data_option;      // --data DIR, absolute; empty: none
+    std::string description_dir;  // the description's folder, absolute
+    DatasetConfig &config;
+
+    template <typename... Args>
+    void operator()(const char *key, Args &&...args) {
+        in(key, std::forward<Args>(args)...);
+    }
+    void operator()(const char *key, std::string &member, PathField path, const char *doc) {
+        in(key, member, path, doc);
+        if (&member != &config.data_dir) return;
+        config.path_base = !data_option.empty() ? PathBase::kDataOption
+                           : !member.empty()    ? PathBase::kDataDirKey
+                                                : PathBase::kDescriptionFolder;
+        config.path_base_dir = !data_option.empty() ? data_option
+                               : !member.empty()    ? member
+                                                    : description_dir;
+        in.set_base_dir(config.path_base_dir);
+    }
+};
 
 // The fields a description of @p reader writes: not the sections other readers read (the reader
 // refuses them), not an unknown value (NaN: vehicle.base_height_m).
@@ -217,30 +283,82 @@ DatasetConfig ForRadar(const DatasetConfig &config, std::size_t index) {
     return one;
 }
 
-DatasetConfig LoadDatasetConfig(const std::string &yaml_path, const DatasetChoice &choice) {
-    const std::string base_dir = fs::absolute(yaml_path).parent_path().string();
+DatasetConfig LoadDatasetConfig(const std::string &yaml_path, const std::string &data_dir,
+                                const DatasetChoice &choice) {
+    const std::string description_dir = fs::absolute(yaml_path).parent_path().string();
+    std::string data_option;
+    if (!data_dir.empty()) {
+        std::error_code ec;
+        if (!fs::is_directory(data_dir, ec))
+            throw ConfigError("--data " + data_dir + ": no such folder (the folder that " +
+                              yaml_path + "'s relative paths are taken from)");
+        data_option = fs::absolute(data_dir).lexically_normal().string();
+        while (!fs::path(data_option).has_filename() && fs::path(data_option).has_relative_path())
+            data_option = fs::path(data_option).parent_path().string();
+    }
     const YAML::Node root = LoadYamlFile(yaml_path);
-    FieldReader in(YamlSection(root, yaml_path), base_dir);
+    FieldReader in(YamlSection(root, yaml_path), description_dir);
     DatasetConfig config;
     config.config_path = yaml_path;
     config.name = fs::path(yaml_path).stem().string();
+    RequireReader(root, in);
     in("reader", config.reader, ReaderKindChoices(), "");
     RejectKeysTheReaderDoesNotRead(root, in.Section(""), config.reader);
-    VisitFields(config, in);
-    ReadRadars(root, in, yaml_path, base_dir, config);
-    in.RejectUnknownKeys();
-    ApplyDatasetChoice(config, choice);
+    VisitFields(config, DescriptionReader{in, data_option, description_dir, config});
+    const bool has_radars = in.Has("radars");
+    in.RejectUnknownKeys();  // before the radars' and the fields' checks of missing keys
+    for (const auto &path : in.paths_read())
+        if (path.key != "data_dir")
+            config.inputs.push_back({path.key, path.written, path.resolved});
+    if (has_radars) ReadRadars(root, in, yaml_path, config.path_base_dir, config);
+    ApplyChoice(config, choice);  // over the paths as resolved
     CheckFields(in, config);
     ApplyFormatLayout(config, in.Has("extrinsics.T_base_radar"));  // the data set's own radars
     return config;
 }
 
-DatasetConfig ResolveDataset(const std::string &argument, const DatasetChoice &choice) {
+std::string DescribePathBase(const DatasetConfig &config) {
+    switch (config.path_base) {
+        case PathBase::kDataOption:
+            return "taken from --data " + config.path_base_dir;
+        case PathBase::kDataDirKey:
+            return "taken from the description's data_dir: " + config.path_base_dir;
+        case PathBase::kDescriptionFolder:
+            return "taken from the description's folder " + config.path_base_dir +
+                   " (it has no data_dir: and no --data DIR was given)";
+    }
+    return "";
+}
+
+void RequireInputs(const DatasetConfig &config) {
+    for (const DatasetInput &input : config.inputs) {
+        std::error_code ec;
+        if (fs::exists(input.path, ec)) continue;
+        const std::string where =
+            config.config_path.empty() ? "the description" : config.config_path;
+        if (fs::path(input.written).is_absolute())
+            throw ConfigError(where + ": key '" + input.key + "': " + input.path +
+                              ": no such file or folder (an absolute path: fix the key)");
+        throw ConfigError(where + ": key '" + input.key + "': " + input.path +
+                          ": no such file or folder (written " + input.written +
+                          ", a relative path " + DescribePathBase(config) +
+                          "; pass --data DIR with the folder that holds " + input.written +
+                          ", or write an absolute path)");
+    }
+}
+
+DatasetConfig ResolveDataset(const std::string &argument, const std::string &data_dir,
+                             const DatasetChoice &choice) {
     const fs::path path(argument);
     std::error_code ec;
+    const auto description = [&](const std::string &yaml) {
+        DatasetConfig config = LoadDatasetConfig(yaml, data_dir, choice);
+        RequireInputs(config);
+        return config;
+    };
     if (fs::is_directory(path, ec)) {
-        const fs::path description = path / "dataset.yaml";
-        if (fs::exists(description)) return LoadDatasetConfig(description.string(), choice);
+        const fs::path in_folder = path / "dataset.yaml";
+        if (fs::exists(in_folder)) return description(in_folder.string());
         if (!fs::exists(path / "metadata.yaml")) {
             throw ConfigError(argument +
                               ": a folder without dataset.yaml or metadata.yaml (rosbag2); pass a "
@@ -249,7 +367,10 @@ DatasetConfig ResolveDataset(const std::string &argument, const DatasetChoice &c
     }
     if (!fs::exists(path, ec)) throw ConfigError(argument + ": no such file");
     const std::string ext = path.extension().string();
-    if (ext == ".yaml" || ext == ".yml") return LoadDatasetConfig(argument, choice);
+    if (ext == ".yaml" || ext == ".yml") return description(argument);
+    if (!data_dir.empty())
+        throw ConfigError("--data " + data_dir + ": only for a dataset description (.yaml); " +
+                          argument + " is a recording");
     // A recording: ROS1 .bag, rosbag2 folder, .db3 or .mcap (the reader tells them by their bytes).
     if (ext == ".bag" || ext == ".db3" || ext == ".mcap" || fs::is_directory(path, ec)) {
         // The paper's Hugin dataset layout: radar PointCloud2 on /hugin_raf_1/radar_data, and

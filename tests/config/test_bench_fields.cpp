@@ -58,6 +58,7 @@ TEST(BenchFields, EveryKeyReadsBackAValueOtherThanItsDefault) {
     BenchSequence simulated;
     VisitFields(simulated, testing::Perturb{});
     simulated.dataset.clear();
+    simulated.data.clear();
     simulated.ground_truth.clear();
     BenchSequence recorded;
     VisitFields(recorded, testing::Perturb{});
@@ -65,6 +66,7 @@ TEST(BenchFields, EveryKeyReadsBackAValueOtherThanItsDefault) {
     recorded.simulate_sequence.clear();
     recorded.seed = BenchSequence{}.seed;
     recorded.duration_s = BenchSequence{}.duration_s;
+    recorded.data = "/perturbed/recorded_data";  // absolute: kept as written, not under data_dir
     changed.sequences = {simulated, recorded};
 
     io::FieldWriter writer;
@@ -74,7 +76,7 @@ TEST(BenchFields, EveryKeyReadsBackAValueOtherThanItsDefault) {
         io::FieldWriter item;
         const bool is_simulated = !sequence.simulate_sequence.empty();
         VisitFields(sequence,
-                    Skipping{is_simulated ? std::vector<std::string>{"dataset", "ground_truth"}
+                    Skipping{is_simulated ? std::vector<std::string>{"data", "ground_truth"}
                                           : std::vector<std::string>{"simulate."},
                              item});
         items.push_back(item.text());

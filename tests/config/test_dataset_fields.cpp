@@ -27,8 +27,11 @@ std::string Text(const std::vector<FieldRow> &rows) {
 
 TEST(DatasetFields, EveryMemberIsAField) {
     DatasetConfig config;
-    // config_path: where it came from; radars: a list, each radar RadarStream's list.
-    EXPECT_EQ(testing::MembersWithoutField(config, {&config.config_path, &config.radars}),
+    // config_path, path_base, path_base_dir, inputs: where it came from and how its paths were
+    // resolved; radars: a list, each radar RadarStream's list.
+    EXPECT_EQ(testing::MembersWithoutField(
+                  config, {&config.config_path, &config.path_base, &config.path_base_dir,
+                           &config.inputs, &config.radars}),
               std::vector<std::string>{});
     // The data sets' own readers fill these from their files: no key.
     RadarStream radar;

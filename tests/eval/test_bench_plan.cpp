@@ -89,6 +89,36 @@ map_priors: [imu, doppler]
     }
 }
 
+TEST(BenchPlan, EachRunGetsItsSequencesDataFolder) {
+    // data: relative to data_dir: (relative to the file), or to the --data argument; absolute as
+    // written; each run of the sequence gets it as --data.
+    const std::string yaml = R"(
+data_dir: ../recordings
+sequences:
+  - {name: a, dataset: a.yaml, data: drive_a, ground_truth: a.tum}
+  - {name: b, dataset: b.yaml, data: /abs/drive_b, ground_truth: b.tum}
+  - {name: c, dataset: c.yaml, ground_truth: c.tum}
+odometry: [doppler]
+map_priors: [none]
+)";
+    BenchConfig config = ParseBenchConfig(yaml, "/cfg", "test.yaml");
+    EXPECT_EQ(config.sequences[0].data, "/recordings/drive_a");
+    EXPECT_EQ(config.sequences[1].data, "/abs/drive_b");
+    EXPECT_EQ(config.sequences[2].data, "");
+    const auto runs = PlanBenchmark(config, "/out");
+    ASSERT_EQ(runs.size(), 6u);
+    const std::vector<std::string> odometry{"odometry", "/cfg/a.yaml",        "--out",
+                                            "{out}",    "--method",           "doppler",
+                                            "--data",   "/recordings/drive_a"};
+    EXPECT_EQ(runs[0].job.args, odometry);
+    EXPECT_EQ(runs[1].job.args.back(), "/recordings/drive_a");  // map_none
+    EXPECT_EQ(runs[3].job.args.back(), "/abs/drive_b");
+    EXPECT_EQ(std::count(runs[4].job.args.begin(), runs[4].job.args.end(), "--data"), 0);
+    config = ParseBenchConfig(yaml, "/cfg", "test.yaml", "/mnt/disk");
+    EXPECT_EQ(config.sequences[0].data, "/mnt/disk/drive_a");
+    EXPECT_EQ(config.sequences[1].data, "/abs/drive_b");
+}
+
 TEST(BenchPlan, ErrorsNameTheKey) {
     const auto error_of = [](const std::string &yaml) {
         try {

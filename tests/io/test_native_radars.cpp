@@ -226,6 +226,45 @@ TEST_F(NativeRadars, TheCommandLineChoosesTheSceneAndTheSequence) {
               short_drive.radarscenes.sequence_dir);
 }
 
+// --scene / --sequence choose within the data as --data DIR or data_dir: resolved it: a
+// description copied elsewhere reads sequence_106 beside its sequence_dir under DIR.
+TEST_F(NativeRadars, TheChoiceIsTakenFromTheDataFolder) {
+    const fs::path elsewhere = dir_ / "elsewhere";
+    fs::create_directories(elsewhere);
+    for (const char *name : {"radarscenes_native.yaml", "nuscenes_native.yaml"})
+        fs::copy_file(dir_ / name, elsewhere / name, fs::copy_options::overwrite_existing);
+    DatasetChoice sequence;
+    sequence.sequence = "106";
+    const DatasetConfig with_data =
+        ResolveDataset((elsewhere / "radarscenes_native.yaml").string(), dir_.string(), sequence);
+    const fs::path expected = dir_ / "RadarScenes" / "data" / "sequence_106";
+    EXPECT_TRUE(fs::equivalent(with_data.radarscenes.sequence_dir, expected))
+        << with_data.radarscenes.sequence_dir;
+    for (const DatasetInput &input : with_data.inputs)  // what RequireInputs checked
+        if (input.key == "radarscenes.sequence_dir")
+            EXPECT_EQ(input.path, with_data.radarscenes.sequence_dir);
+    EXPECT_EQ(ReadRadars(with_data).size(), 100u);
+    ExpectMentions(ConfigErrorOf([&] {
+                       (void)ResolveDataset((elsewhere / "radarscenes_native.yaml").string(), "",
+                                            sequence);
+                   }),
+                   {"--sequence 106", "description's folder", "--data DIR"});
+
+    std::ofstream(elsewhere / "rs_data_dir.yaml")
+        << "reader: radarscenes\ndata_dir: ..\nradarscenes: {sequence_dir: "
+           "RadarScenes/data/sequence_105}\n";
+    const DatasetConfig with_key =
+        ResolveDataset((elsewhere / "rs_data_dir.yaml").string(), "", sequence);
+    EXPECT_TRUE(fs::equivalent(with_key.radarscenes.sequence_dir, expected));
+
+    DatasetChoice scene;
+    scene.scene = "scene-0103";
+    const DatasetConfig later =
+        ResolveDataset((elsewhere / "nuscenes_native.yaml").string(), dir_.string(), scene);
+    EXPECT_EQ(later.nuscenes.scene, "scene-0103");
+    EXPECT_EQ(later.radars.size(), 1u);
+}
+
 TEST_F(NativeRadars, BadChoicesNameWhatThereIs) {
     DatasetChoice choice;
     choice.scene = "scene-061";

@@ -108,9 +108,25 @@ struct GroundTruthFile {
     std::string kitti_times_path;  ///< for KITTI: one time [s] per line
 };
 
+/// Where a description's relative paths were taken from (LoadDatasetConfig): --data DIR, else
+/// the description's data_dir: (relative to the description's folder), else its folder.
+enum class PathBase { kDescriptionFolder, kDataDirKey, kDataOption };
+
+/// A file or folder the description names (a path key), for messages about a missing one.
+struct DatasetInput {
+    std::string key;      ///< dotted, e.g. folder.scans_dir, radars[1].timestamps_file
+    std::string written;  ///< as the description wrote it
+    std::string path;     ///< as resolved (the member's value)
+};
+
 struct DatasetConfig {
     std::string name;         ///< for messages and reports
     std::string config_path;  ///< the YAML file it came from (empty when built in code)
+    /// The description's data_dir: (resolved; empty: none). --data DIR replaces it.
+    std::string data_dir;
+    PathBase path_base = PathBase::kDescriptionFolder;
+    std::string path_base_dir;         ///< the folder the relative paths were taken from
+    std::vector<DatasetInput> inputs;  ///< every path the description names, not a key
     ReaderKind reader = ReaderKind::kRosbag;
     RosbagSource rosbag;
     FolderSource folder;
@@ -131,15 +147,43 @@ struct DatasetConfig {
 /// that radar's scans with OpenDataset). Throws std::out_of_range for a bad index.
 [[nodiscard]] DatasetConfig ForRadar(const DatasetConfig &config, std::size_t index);
 
-/// Reads and validates a dataset description. Relative paths are taken relative to the YAML file.
-/// Unknown keys, wrong types and out-of-range values throw ConfigError naming file and key.
+/// Reads and validates a dataset description. Relative paths are taken from @p data_dir when it
+/// is given (the command line's --data DIR), else from the description's data_dir: key (itself
+/// relative to the YAML file), else from the YAML file's folder. @p choice (--scene, --sequence)
+/// then replaces the description's scene or sequence: a sequence is looked for beside
+/// radarscenes.sequence_dir as resolved. Unknown keys (named before any missing one), wrong types,
+/// out-of-range values and a choice the reader has no use for throw ConfigError naming file and
+/// key. The files the paths name are not opened (but the data set's own layout files, for readers
+/// radarscenes and nuscenes): RequireInputs checks them.
 [[nodiscard]] DatasetConfig LoadDatasetConfig(const std::string &yaml_path,
+                                              const std::string &data_dir = "",
                                               const DatasetChoice &choice = {});
+/// Same, the paths resolved without --data.
+[[nodiscard]] inline DatasetConfig LoadDatasetConfig(const std::string &yaml_path,
+                                                     const DatasetChoice &choice) {
+    return LoadDatasetConfig(yaml_path, "", choice);
+}
 
-/// The dataset a command-line argument names: a .yaml/.yml description, or a .bag read with the
-/// paper's Hugin defaults. Throws ConfigError (also for a choice the reader has no use for).
+/// The dataset a command-line argument names: a .yaml/.yml description (relative paths taken as
+/// LoadDatasetConfig says, @p choice applied, every input checked by RequireInputs), or a .bag
+/// read with the paper's Hugin defaults. @p data_dir: --data DIR, only for a description. Throws
+/// ConfigError (also for a choice the reader has no use for).
 [[nodiscard]] DatasetConfig ResolveDataset(const std::string &argument,
+                                           const std::string &data_dir = "",
                                            const DatasetChoice &choice = {});
+/// Same, the paths resolved without --data.
+[[nodiscard]] inline DatasetConfig ResolveDataset(const std::string &argument,
+                                                  const DatasetChoice &choice) {
+    return ResolveDataset(argument, "", choice);
+}
+
+/// Throws ConfigError for the first input of @p config that does not exist, naming the
+/// description, the key, the path as written and as resolved, the folder it was taken from (and
+/// why that one), and how to change it (--data DIR or an absolute path).
+void RequireInputs(const DatasetConfig &config);
+
+/// How the description's relative paths resolve, in words ("taken from --data /x").
+[[nodiscard]] std::string DescribePathBase(const DatasetConfig &config);
 
 /// The description as YAML text (what LoadDatasetConfig reads back): the field list's keys
 /// (dataset_fields.hpp) but the sections of other readers, each with its doc, and `radars:`.

@@ -163,6 +163,10 @@ template <typename Visitor>
 void VisitFields(DatasetConfig &c, Visitor &&v) {
     v("name", c.name, "for messages and reports; absent: the file's name");
     v("reader", c.reader, ReaderKindChoices(), "which reader");
+    // Read first: the relative paths after it are taken from it (LoadDatasetConfig).
+    v("data_dir", c.data_dir, kPath,
+      "the folder the other relative paths are taken from, itself relative to this file; absent: "
+      "this file's folder; --data DIR replaces it");
     VisitFields(c.rosbag, Prefixed{"rosbag.", v});
     VisitFields(c.folder, Prefixed{"folder.", v});
     VisitFields(c.radarscenes, Prefixed{"radarscenes.", v});

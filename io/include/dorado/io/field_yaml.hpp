@@ -122,8 +122,22 @@ class FieldReader {
     }
     void operator()(const char *key, std::string &member, PathField, const char * /*doc*/) {
         auto [section, leaf] = SectionOf(key);
-        if (section.Has(leaf)) member = ResolvePath(section.Get<std::string>(leaf, ""), base_dir_);
+        if (!section.Has(leaf)) return;
+        const std::string written = section.Get<std::string>(leaf, "");
+        member = ResolvePath(written, base_dir_);
+        if (!written.empty()) paths_read_.push_back({key, written, member});
     }
+
+    /// A path as the file wrote it and as it was resolved (for messages about a missing file).
+    struct PathRead {
+        std::string key;       ///< dotted, as the field list names it
+        std::string written;   ///< the file's text
+        std::string resolved;  ///< taken from base_dir unless absolute
+    };
+    /// Every non-empty path read so far, in reading order.
+    [[nodiscard]] const std::vector<PathRead> &paths_read() const { return paths_read_; }
+    /// The folder that the relative paths read from now on are taken from.
+    void set_base_dir(std::string base_dir) { base_dir_ = std::move(base_dir); }
 
     /// The section that holds dotted key @p path's leaf ("" = the top level), made on first use.
     YamlSection &Section(const std::string &path);
@@ -142,6 +156,7 @@ class FieldReader {
     YamlSection top_;
     std::string base_dir_;
     std::map<std::string, YamlSection> sections_;  ///< by dotted path
+    std::vector<PathRead> paths_read_;
 };
 
 /// Writes the fields as YAML, each with its doc as a comment, sections opened as keys need them.
