@@ -98,12 +98,8 @@ odometry::YawCalibrationStep RadarFrontEnd::State::CalibrateYawLever(
     // A window needs every scan's own Doppler yaw (eq. 5 on this scan's velocity, no fallback)
     // and every pose registered, with the yaw among the directions the map observes.
     const bool own_twist = step.ego.valid() && !step.used_fallback && !step.planar;
-    // (A registration the smoother down-weighted disagrees with the prediction: not a measurement
-    // of the lever.)
-    const bool yaw_observed =
-        reg.first_scan || (reg.registered.valid && !reg.fallback() &&
-                           reg.registration_weight >= 1.0 &&
-                           reg.registered.strong_projector(5, 5) > 0.5);
+    const bool yaw_observed = reg.first_scan || (reg.registered.valid && !reg.fallback() &&
+                                                 reg.registered.strong_projector(5, 5) > 0.5);
     const Eigen::Matrix3d R_world_base =
         reg.registered.valid ? reg.registered.T_world_base.linear() : reg.T_world_base.linear();
     const double v_sy =

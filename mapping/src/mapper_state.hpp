@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <deque>
 #include <optional>
 #include <string>
@@ -86,6 +87,10 @@ struct RadarMapper::State {
     [[nodiscard]] std::vector<WrittenPose> Write(const std::vector<SmoothedPose> &smoothed,
                                                  double &map_update_ms);
     [[nodiscard]] bool IsKeyframe(const Eigen::Isometry3d &T_world_base) const;
+    /// Cells emptied by movers: the points a pending scan already put in the map there (the first
+    /// scan's) leave its report too, so that an output map built from the written poses stays the
+    /// mapper's.
+    void DropFromPending(const std::vector<VoxelKey> &cells);
 
     // map_registration.cpp
     /// Scan-to-map registration from the prediction (PCL), its checks, then the refinement of

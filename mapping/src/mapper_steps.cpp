@@ -175,6 +175,19 @@ std::vector<WrittenPose> RadarMapper::State::Smooth(PendingScan scan, const Moti
     return Write(smoother.TakeSmoothed(), result.times.map_update_ms);
 }
 
+void RadarMapper::State::DropFromPending(const std::vector<VoxelKey> &cells) {
+    for (PendingScan &scan : pending) {
+        if (!scan.in_map) continue;
+        Eigen::Matrix3Xd &added = scan.written.map_points_added_world;
+        Eigen::Index kept = 0;
+        for (Eigen::Index i = 0; i < added.cols(); ++i)
+            if (std::find(cells.begin(), cells.end(),
+                          VoxelKeyOf(added.col(i), config.map.voxel_size_m)) == cells.end())
+                added.col(kept++) = added.col(i);
+        added.conservativeResize(3, kept);
+    }
+}
+
 bool RadarMapper::State::IsKeyframe(const Eigen::Isometry3d &T_world_base) const {
     if (config.keyframe_distance_m <= 0.0 && config.keyframe_angle_deg <= 0.0) return true;
     const Eigen::Isometry3d delta = T_world_base_last_keyframe.inverse() * T_world_base;

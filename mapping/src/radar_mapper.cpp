@@ -96,7 +96,10 @@ RegistrationResult RadarMapper::Register(const RadarScan &scan_radar, const Mapp
                                          s.extrinsics.T_base_radar, config, s.movers, s.time_s);
     RegistrationResult result;
     result.map_points_dropped = static_cast<int>(s.map.Remove(points.moving_cells));
-    if (result.map_points_dropped > 0) result.map_cells_dropped = std::move(points.moving_cells);
+    if (result.map_points_dropped > 0) {
+        s.DropFromPending(points.moving_cells);
+        result.map_cells_dropped = std::move(points.moving_cells);
+    }
     const Eigen::Matrix3Xd source_base =
         ThinColumns(VoxelDownsample(points.p_base, config.scan_voxel_m), config.max_source_points);
     result.times.preprocess_ms = MillisecondsSince(t_start);
