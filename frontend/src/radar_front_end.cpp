@@ -72,8 +72,8 @@ MappedScan RadarFrontEnd::State::MapScan(const RadarScan &scan_radar,
     out.prior = BuildPrior(step, scan_radar.stamp_ns, dt_s, twist_discontinuous);
     // The ground (ground.enabled) holds the map's roll and pitch in the mapper's smoother (3-D;
     // not with the gyro's priors, whose attitude the IMU holds).
-    const bool ground_factor = config.odometry.ground.enabled && !step.planar &&
-                               !mapping::NeedsImu(config.prior);
+    const bool ground_factor =
+        config.odometry.ground.enabled && !step.planar && !mapping::NeedsImu(config.prior);
     out.prior_ms = MillisecondsSince(t_prior);
 
     if (step.planar && !mapper->planar()) mapper->SetPlanar();  // a 2D radar
@@ -112,8 +112,7 @@ odometry::YawCalibrationStep RadarFrontEnd::State::CalibrateYawLever(
 }
 
 void RadarFrontEnd::State::Advance(int64_t stamp_ns, const odometry::OdometryStep &step,
-                                   const Eigen::Isometry3d &T_world_base,
-                                   bool twist_discontinuous,
+                                   const Eigen::Isometry3d &T_world_base, bool twist_discontinuous,
                                    const std::vector<mapping::WrittenPose> *written) {
     if (written == nullptr)
         trajectory.Append(stamp_ns, T_world_base);

@@ -4,8 +4,8 @@
 #include <cctype>
 #include <filesystem>
 
-#include "dorado/io/dataset_fields.hpp"
 #include "dorado/io/closest_name.hpp"
+#include "dorado/io/dataset_fields.hpp"
 #include "readers.hpp"
 
 namespace dorado::io {

@@ -7,8 +7,8 @@
 #include <fstream>
 #include <map>
 
-#include "dorado/io/dataset.hpp"
 #include "dorado/io/closest_name.hpp"
+#include "dorado/io/dataset.hpp"
 
 namespace dorado::io {
 

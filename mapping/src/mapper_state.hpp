@@ -82,7 +82,8 @@ struct RadarMapper::State {
     [[nodiscard]] std::vector<WrittenPose> Smooth(PendingScan scan, const MotionPrior &prior,
                                                   const MotionPrior &prediction,
                                                   const ScanEstimate &estimate,
-                                                  const GroundUp *ground, RegistrationResult &result);
+                                                  const GroundUp *ground,
+                                                  RegistrationResult &result);
     /// The written poses' scans into the map (keyframes only, when configured).
     [[nodiscard]] std::vector<WrittenPose> Write(const std::vector<SmoothedPose> &smoothed,
                                                  double &map_update_ms);

@@ -115,8 +115,7 @@ ScanEstimate RadarMapper::State::Estimate(const Eigen::Matrix3Xd &source_base,
         return too_few;
     }
     if (planar)  // a 2D radar: x, y and yaw (planar_registration.cpp)
-        return EstimateOf(
-            RegisterPlanar(source_base, prediction, map, config, threshold_m));
+        return EstimateOf(RegisterPlanar(source_base, prediction, map, config, threshold_m));
     const GroundUp *ground = input.ground_base ? &*input.ground_base : nullptr;
     return RegisterToMap(source_base, doppler, prediction, input.dt_s, threshold_m, ground);
 }

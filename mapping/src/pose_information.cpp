@@ -100,7 +100,6 @@ Matrix6d AdjointSE3(const Eigen::Isometry3d &T) {
     return Ad;
 }
 
-
 Matrix6d CovarianceFromInformation(const Matrix6d &information) {
     const Matrix6d regularised = information + 1e-12 * Matrix6d::Identity();
     const Matrix6d covariance = regularised.ldlt().solve(Matrix6d::Identity());

@@ -1,11 +1,11 @@
 // The fixed-lag smoother (pose_smoother.hpp): Gauss-Newton on SE(3) over the window's poses.
 //
 // Factors, each a whitened residual r with its Jacobian J on the right perturbations xi_i:
-//   anchor (oldest pose):  r = W_a Log(m^-1 T_0)                    J_0 = W_a
-//   motion (i-1 -> i):     r = W_i Log(D_i^-1 T_{i-1}^-1 T_i)       J_{i-1} = -W_i Ad(T_i^-1 T_{i-1}),
-//                                                                  J_i = W_i
-//   registration (i):      r = W_r Log(z_i^-1 T_i)                  J_i = W_r
-//   ground (i):            r = W_g (u_base - (R_i^T e_z))_xy        J_i = W_g [0 | -[u]x]_xy
+//   anchor (oldest):  r = W_a Log(m^-1 T_0)               J_0 = W_a
+//   motion (i-1, i):  r = W_i Log(D_i^-1 T_{i-1}^-1 T_i)  J_{i-1} = -W_i Ad(T_i^-1 T_{i-1}),
+//                                                         J_i = W_i
+//   registration (i): r = W_r Log(z_i^-1 T_i)             J_i = W_r
+//   ground (i):       r = W_g (u_base - (R_i^T e_z))_xy   J_i = W_g [0 | -[u]x]_xy
 // (first order: the Jacobians of Log at small residuals are the identity). The normal equations
 // H dxi = -g are dense 6N x 6N (N ~ 10-20): an LDLT per iteration costs tens of microseconds.
 // A pose leaves by the Schur complement of its block: the factors that touch it become one
@@ -29,7 +29,8 @@ using VectorXd = Eigen::VectorXd;
 
 // W with W^T W = information (symmetric positive semi-definite; zero along its null space).
 Matrix6d SqrtOfInformation(const Matrix6d &information) {
-    const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(0.5 * (information + information.transpose()));
+    const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(0.5 *
+                                                      (information + information.transpose()));
     const Vector6d s = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt();
     return s.asDiagonal() * eig.eigenvectors().transpose();
 }
@@ -37,7 +38,8 @@ Matrix6d SqrtOfInformation(const Matrix6d &information) {
 // W with W^T W = covariance^-1 (L^-1 for covariance = L L^T).
 Matrix6d SqrtOfInverse(const Matrix6d &covariance) {
     const Eigen::LLT<Matrix6d> llt(0.5 * (covariance + covariance.transpose()));
-    if (llt.info() != Eigen::Success) return SqrtOfInformation(CovarianceFromInformation(covariance));
+    if (llt.info() != Eigen::Success)
+        return SqrtOfInformation(CovarianceFromInformation(covariance));
     return llt.matrixL().solve(Matrix6d::Identity());
 }
 
@@ -46,7 +48,8 @@ struct Normal {
     MatrixXd H;
     VectorXd g;
     double cost = 0.0;  ///< half the squared whitened residuals
-    explicit Normal(int poses) : H(MatrixXd::Zero(6 * poses, 6 * poses)), g(VectorXd::Zero(6 * poses)) {}
+    explicit Normal(int poses)
+        : H(MatrixXd::Zero(6 * poses, 6 * poses)), g(VectorXd::Zero(6 * poses)) {}
 
     template <int Rows>
     void AddUnary(int i, const Eigen::Matrix<double, Rows, 6> &J,
@@ -146,16 +149,16 @@ void PoseSmoother::Solve() {
     const int n = static_cast<int>(states_.size());
     auto build = [&]() {
         Normal normal(n);
-        normal.AddUnary<6>(0, anchor_sqrt_information_,
-                           anchor_sqrt_information_ *
-                               LogSE3(anchor_mean_.inverse() * states_[0].T_world_base));
+        normal.AddUnary<6>(
+            0, anchor_sqrt_information_,
+            anchor_sqrt_information_ * LogSE3(anchor_mean_.inverse() * states_[0].T_world_base));
         for (int i = 0; i < n; ++i) {
             const State &s = states_[static_cast<std::size_t>(i)];
             if (i > 0) {
                 const State &p = states_[static_cast<std::size_t>(i - 1)];
                 const Matrix6d W = SqrtOfInverse(s.scan.motion_covariance);
-                const Vector6d r = W * LogSE3(s.scan.motion.inverse() * p.T_world_base.inverse() *
-                                              s.T_world_base);
+                const Vector6d r =
+                    W * LogSE3(s.scan.motion.inverse() * p.T_world_base.inverse() * s.T_world_base);
                 normal.AddBinary(i - 1, -W * AdjointSE3(s.T_world_base.inverse() * p.T_world_base),
                                  i, W, r);
             }
@@ -165,7 +168,8 @@ void PoseSmoother::Solve() {
                     W * LogSE3(s.scan.T_world_base_registered->inverse() * s.T_world_base);
                 normal.AddUnary<6>(i, W, r);
             }
-            if (s.scan.ground_base) AddGround(normal, i, *s.scan.ground_base, s.T_world_base.linear());
+            if (s.scan.ground_base)
+                AddGround(normal, i, *s.scan.ground_base, s.T_world_base.linear());
         }
         return normal;
     };
@@ -190,7 +194,8 @@ void PoseSmoother::Solve() {
             lambda = lambda == 0.0 ? 1e-3 : 10.0 * lambda;
         }
         if (!improved) {  // no step lowers the cost: the window stays where it was
-            for (int i = 0; i < n; ++i) states_[static_cast<std::size_t>(i)].T_world_base = poses[i];
+            for (int i = 0; i < n; ++i)
+                states_[static_cast<std::size_t>(i)].T_world_base = poses[i];
             break;
         }
         if (dx.lpNorm<Eigen::Infinity>() < 1e-9) break;
@@ -223,14 +228,17 @@ std::optional<SmoothedPose> PoseSmoother::PopOldest() {
         next_motion_covariance_ = J * oldest_pair_covariance_ * J.transpose();
         // Schur complement of the oldest pose's block in the factors that touch it.
         Normal local(2);
-        local.AddUnary<6>(0, anchor_sqrt_information_,
-                          anchor_sqrt_information_ * LogSE3(anchor_mean_.inverse() * oldest.T_world_base));
+        local.AddUnary<6>(
+            0, anchor_sqrt_information_,
+            anchor_sqrt_information_ * LogSE3(anchor_mean_.inverse() * oldest.T_world_base));
         if (oldest.scan.T_world_base_registered) {
             const Matrix6d &W = oldest.registration_sqrt_information;
-            local.AddUnary<6>(0, W, W * LogSE3(oldest.scan.T_world_base_registered->inverse() *
-                                               oldest.T_world_base));
+            local.AddUnary<6>(
+                0, W,
+                W * LogSE3(oldest.scan.T_world_base_registered->inverse() * oldest.T_world_base));
         }
-        if (oldest.scan.ground_base) AddGround(local, 0, *oldest.scan.ground_base, oldest.T_world_base.linear());
+        if (oldest.scan.ground_base)
+            AddGround(local, 0, *oldest.scan.ground_base, oldest.T_world_base.linear());
         const Matrix6d W = SqrtOfInverse(next.scan.motion_covariance);
         local.AddBinary(0, -W * AdjointSE3(D), 1, W,
                         W * LogSE3(next.scan.motion.inverse() * oldest.T_world_base.inverse() *
@@ -239,8 +247,8 @@ std::optional<SmoothedPose> PoseSmoother::PopOldest() {
         const Eigen::LDLT<Matrix6d> H00_ldlt(H00);
         const Matrix6d H_p = local.H.bottomRightCorner<6, 6>() -
                              local.H.block<6, 6>(6, 0) * H00_ldlt.solve(local.H.block<6, 6>(0, 6));
-        const Vector6d g_p = local.g.tail<6>() -
-                             local.H.block<6, 6>(6, 0) * H00_ldlt.solve(local.g.head<6>());
+        const Vector6d g_p =
+            local.g.tail<6>() - local.H.block<6, 6>(6, 0) * H00_ldlt.solve(local.g.head<6>());
         const Matrix6d H_sym = 0.5 * (H_p + H_p.transpose());
         const Vector6d shift = -H_sym.ldlt().solve(g_p);
         anchor_mean_ = Plus(next.T_world_base, shift.allFinite() ? shift : Vector6d::Zero());

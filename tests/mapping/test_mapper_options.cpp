@@ -137,8 +137,8 @@ TEST(MapperOptions, KeyframeAngleSpacesTheMapUpdates) {
 RadarScan SparseScanFrom(const Eigen::Isometry3d &T_world_base, const Eigen::Vector3d &v_base,
                          std::mt19937 &rng) {
     const RadarScan scan = ScanFrom(T_world_base, v_base, Eigen::Vector3d::Zero(), rng);
-    Eigen::Array<bool, Eigen::Dynamic, 1> keep = Eigen::Array<bool, Eigen::Dynamic, 1>::Constant(
-        scan.size(), false);
+    Eigen::Array<bool, Eigen::Dynamic, 1> keep =
+        Eigen::Array<bool, Eigen::Dynamic, 1>::Constant(scan.size(), false);
     keep.head(20).setConstant(true);
     return SelectPoints(scan, keep);
 }
@@ -204,10 +204,11 @@ TEST(MapperOptions, ARegistrationIsWeightedByItsDistanceFromThePrediction) {
         results.push_back(r);
     }
     const RegistrationResult &far = results[0], &near = results[1];
-    std::printf("Mahalanobis^2 of the registration from the prediction: %.2f (weight %.3f) 0.8 m "
-                "off, %.2f (weight %.3f) at the truth\n",
-                far.prior_mahalanobis_squared, far.registration_weight,
-                near.prior_mahalanobis_squared, near.registration_weight);
+    std::printf(
+        "Mahalanobis^2 of the registration from the prediction: %.2f (weight %.3f) 0.8 m "
+        "off, %.2f (weight %.3f) at the truth\n",
+        far.prior_mahalanobis_squared, far.registration_weight, near.prior_mahalanobis_squared,
+        near.registration_weight);
     EXPECT_LT(near.prior_mahalanobis_squared, 3.0);  // measured 1.49 (6 dof: 6 on average)
     EXPECT_EQ(near.registration_weight, 1.0);
     EXPECT_GT(far.prior_mahalanobis_squared, 10.0 * near.prior_mahalanobis_squared);
@@ -228,8 +229,8 @@ TEST(MapperOptions, TheDistanceIsTheAlignmentsNotTheRefinedPoses) {
     ASSERT_TRUE(r.registered.valid);
     const Eigen::Vector3d T_true(10.8, 0.0, 0.0);
     std::printf("alignment %.3f m from the truth, Mahalanobis^2 %.1f, weight %.3f\n",
-                (r.T_world_base_aligned.translation() - T_true).norm(),
-                r.prior_mahalanobis_squared, r.registration_weight);
+                (r.T_world_base_aligned.translation() - T_true).norm(), r.prior_mahalanobis_squared,
+                r.registration_weight);
     // Measured: 0.096 m, Mahalanobis^2 102.1, weight 0.221.
     EXPECT_LT((r.T_world_base_aligned.translation() - T_true).norm(), 0.15);
     EXPECT_GT(r.prior_mahalanobis_squared, 50.0);
@@ -262,12 +263,13 @@ TEST(MapperOptions, FallbacksWidenThePredictionUntilTheMapIsTrustedAgain) {
         mapper.Register(ScanFrom(T_true(0), v_base, Eigen::Vector3d::Zero(), rng),
                         PriorInput(PriorAt(T_true(0)), kDtS));
         for (int k = 1; k <= fallbacks; ++k) {
-            const RegistrationResult r =
-                mapper.Register(SparseScanFrom(T_true(k), v_base, rng), PriorInput(prior_at(k), kDtS));
+            const RegistrationResult r = mapper.Register(SparseScanFrom(T_true(k), v_base, rng),
+                                                         PriorInput(prior_at(k), kDtS));
             EXPECT_EQ(r.fallback_cause, FallbackCause::kTooFewPoints) << ToString(r.fallback_cause);
             // The pose is the prior's (the first prior 1 m off, its motion after that).
-            EXPECT_LT((r.T_world_base.translation() - prior_at(k).T_world_base.translation()).norm(),
-                      1e-6);
+            EXPECT_LT(
+                (r.T_world_base.translation() - prior_at(k).T_world_base.translation()).norm(),
+                1e-6);
             // Its covariance: k times the prior's along the translation (the rotation's share,
             // 0.2 m x 0.3 deg per scan, is 1e-6 m^2); 0.01 each time if the fallbacks' poses
             // counted as exact.

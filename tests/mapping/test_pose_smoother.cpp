@@ -122,14 +122,13 @@ TEST(PoseSmoother, NewestAndWrittenPosesAreTheBatchSolutionOfTheirData) {
         const int k = n - 5 + j;
         EXPECT_LT((rest[j].T_world_base.translation() - all.x.segment<3>(3 * k)).norm(), 1e-7);
         const Eigen::MatrixXd &S = all.covariance;
-        const Eigen::Matrix3d motion = S.block<3, 3>(3 * k, 3 * k) +
-                                       S.block<3, 3>(3 * k - 3, 3 * k - 3) -
-                                       S.block<3, 3>(3 * k, 3 * k - 3) -
-                                       S.block<3, 3>(3 * k - 3, 3 * k);
+        const Eigen::Matrix3d motion =
+            S.block<3, 3>(3 * k, 3 * k) + S.block<3, 3>(3 * k - 3, 3 * k - 3) -
+            S.block<3, 3>(3 * k, 3 * k - 3) - S.block<3, 3>(3 * k - 3, 3 * k);
         // (each left after scan n - 1 was added: the full batch)
-            EXPECT_LT((rest[j].motion_covariance.topLeftCorner<3, 3>() - motion).norm(),
-                      1e-6 * motion.norm())
-                << k;
+        EXPECT_LT((rest[j].motion_covariance.topLeftCorner<3, 3>() - motion).norm(),
+                  1e-6 * motion.norm())
+            << k;
     }
     EXPECT_TRUE(written.front().motion_covariance.isZero());  // the first scan: the origin
 }
@@ -155,9 +154,9 @@ TEST(PoseSmoother, WrittenMotionsBeatThePriorAndPosesBeatBothInputs) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity(), T_dr = T;
     const int n = 300;
     for (int k = 0; k < n; ++k) {
-        const Vector6d xi = (Vector6d() << 1.0, 0.0, 0.0, 0.0, 0.01 * std::sin(0.05 * k),
-                             0.05 * std::sin(0.02 * k))
-                                .finished();
+        const Vector6d xi =
+            (Vector6d() << 1.0, 0.0, 0.0, 0.0, 0.01 * std::sin(0.05 * k), 0.05 * std::sin(0.02 * k))
+                .finished();
         SmootherScan scan;
         scan.stamp_ns = k;
         scan.time_s = 0.1 * k;
@@ -181,7 +180,8 @@ TEST(PoseSmoother, WrittenMotionsBeatThePriorAndPosesBeatBothInputs) {
     std::vector<SmoothedPose> written = smoother.TakeSmoothed();
     for (const SmoothedPose &p : smoother.Flush()) written.push_back(p);
     ASSERT_EQ(written.size(), static_cast<std::size_t>(n));
-    double motion_prior = 0.0, motion_written = 0.0, pose_dr = 0.0, pose_reg = 0.0, pose_written = 0.0;
+    double motion_prior = 0.0, motion_written = 0.0, pose_dr = 0.0, pose_reg = 0.0,
+           pose_written = 0.0;
     double nees = 0.0;
     for (int k = 1; k < n; ++k) {
         const Eigen::Isometry3d true_motion = truth[k - 1].inverse() * truth[k];
@@ -193,10 +193,11 @@ TEST(PoseSmoother, WrittenMotionsBeatThePriorAndPosesBeatBothInputs) {
         nees += e.dot(written[k].motion_covariance.ldlt().solve(e));
         pose_dr += LogSE3(truth[k].inverse() * dead_reckoning[k]).head<3>().squaredNorm();
         pose_reg += LogSE3(truth[k].inverse() * registrations[k]).head<3>().squaredNorm();
-        pose_written += LogSE3(truth[k].inverse() * written[k].T_world_base).head<3>().squaredNorm();
+        pose_written +=
+            LogSE3(truth[k].inverse() * written[k].T_world_base).head<3>().squaredNorm();
     }
     EXPECT_LT(motion_written, 0.9 * motion_prior);  // measured 0.83
-    EXPECT_LT(pose_written, 0.5 * pose_reg);  // measured 0.12
+    EXPECT_LT(pose_written, 0.5 * pose_reg);        // measured 0.12
     EXPECT_LT(pose_written, 0.1 * pose_dr);
     // Honest factors give an honest written covariance: mean NEES of 6 dof near 6.
     EXPECT_NEAR(nees / (n - 1), 6.0, 1.2);

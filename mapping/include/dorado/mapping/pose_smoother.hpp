@@ -6,8 +6,8 @@
 /// own information), the road's up-vector where a ground plane was seen, and, for the oldest pose,
 /// what the scans that already left the window said about it (their marginal). A pose leaves the
 /// window smoothed, estimated from the scans on both sides of it: that is the pose written and the
-/// one its scan enters the map at. Plain Eigen: a Gauss-Newton step on the window's block-tridiagonal
-/// normal equations per iteration, a few hundred microseconds at most.
+/// one its scan enters the map at. Plain Eigen: a Gauss-Newton step on the window's
+/// block-tridiagonal normal equations per iteration, a few hundred microseconds at most.
 ///
 /// Every pose error is the right perturbation xi = [rho; phi] of T_world_base (T_true =
 /// T ExpSE3(xi), in the base frame: MotionPrior's convention).

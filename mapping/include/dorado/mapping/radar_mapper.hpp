@@ -176,7 +176,7 @@ struct RegistrationResult {
     /// The registration's alignment from the prediction (PCL), before its refinement: what
     /// prior_mahalanobis_squared measures.
     Eigen::Isometry3d T_world_base_aligned = Eigen::Isometry3d::Identity();
-    bool first_scan = false;    ///< the map was empty: the pose is the prior and starts the map
+    bool first_scan = false;  ///< the map was empty: the pose is the prior and starts the map
     /// Nothing to register (kNone: registered): the pose is the prior's, smoothed.
     FallbackCause fallback_cause = FallbackCause::kNone;
     std::string fallback_detail;  ///< the numbers behind the cause, e.g. "rms 1.7 m" (for reports)
