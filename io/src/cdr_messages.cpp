@@ -2,7 +2,7 @@
 // alignment and bounds checks are Fast-CDR's. Hand-written here is only the field order of the four
 // message definitions (rosidl generates it in ROS2, which Debian does not ship), and the point
 // data, which is taken as a view into the message bytes instead of a copy.
-#include "cdr_messages.hpp"
+#include "dorado/io/cdr_messages.hpp"
 
 #include <fastcdr/Cdr.h>
 #include <fastcdr/FastBuffer.h>
@@ -31,12 +31,17 @@ Eigen::Vector3d ReadVector3(Cdr &cdr) {
     return v;
 }
 
+/// geometry_msgs/msg/Quaternion: x, y, z, w.
+Eigen::Quaterniond ReadQuaternion(Cdr &cdr) {
+    double q[4];
+    cdr.deserializeArray(q, 4);
+    return Eigen::Quaterniond(q[3], q[0], q[1], q[2]);
+}
+
 /// geometry_msgs/msg/Pose: position (x, y, z), orientation (x, y, z, w).
 void ReadPose(Cdr &cdr, CdrPose &out) {
     out.position = ReadVector3(cdr);
-    double q[4];
-    cdr.deserializeArray(q, 4);
-    out.orientation = Eigen::Quaterniond(q[3], q[0], q[1], q[2]);
+    out.orientation = ReadQuaternion(cdr);
 }
 
 /// Runs `body` on a Cdr over the bytes after reading the encapsulation; Fast-CDR's exceptions
@@ -85,32 +90,28 @@ CdrPointCloud2 DecodePointCloud2Cdr(const std::vector<uint8_t> &bytes) {
             cloud.data = bytes.data() + at;
             cloud.data_size = data_size;
             cdr.jump(data_size);
-            bool is_dense = false;
-            cdr.deserialize(is_dense);
+            cdr.deserialize(out.is_dense);
         });
 }
 
 CdrImu DecodeImuCdr(const std::vector<uint8_t> &bytes) {
     return Decode<CdrImu>(bytes, "sensor_msgs/msg/Imu", [](Cdr &cdr, CdrImu &out) {
         out.header = ReadHeader(cdr);
-        double skip[9 + 4];
-        cdr.deserializeArray(skip, 4);  // orientation
-        cdr.deserializeArray(skip, 9);  // orientation_covariance
+        out.orientation = ReadQuaternion(cdr);
+        cdr.deserializeArray(out.orientation_covariance, 9);
         out.omega_radps = ReadVector3(cdr);
-        cdr.deserializeArray(skip, 9);  // angular_velocity_covariance
+        cdr.deserializeArray(out.omega_covariance, 9);
         out.accel_mps2 = ReadVector3(cdr);
-        cdr.deserializeArray(skip, 9);  // linear_acceleration_covariance
+        cdr.deserializeArray(out.accel_covariance, 9);
     });
 }
 
 CdrPose DecodeOdometryCdr(const std::vector<uint8_t> &bytes) {
     return Decode<CdrPose>(bytes, "nav_msgs/msg/Odometry", [](Cdr &cdr, CdrPose &out) {
         out.header = ReadHeader(cdr);
-        std::string child_frame_id;
-        cdr.deserialize(child_frame_id);
-        ReadPose(cdr, out);  // pose.pose; its covariance and the twist are not used
-        double covariance[36];
-        cdr.deserializeArray(covariance, 36);
+        cdr.deserialize(out.child_frame_id);
+        ReadPose(cdr, out);  // pose.pose; the twist is not read
+        cdr.deserializeArray(out.covariance, 36);
     });
 }
 

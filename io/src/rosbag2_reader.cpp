@@ -4,7 +4,7 @@
 #include <map>
 #include <utility>
 
-#include "cdr_messages.hpp"
+#include "dorado/io/cdr_messages.hpp"
 #include "readers.hpp"
 #include "rosbag2_storage.hpp"
 
@@ -27,27 +27,6 @@ StampedPose PoseOf(const CdrPose &pose, int64_t stamp_ns) {
     return out;
 }
 
-std::unique_ptr<Rosbag2Storage> OpenStorage(const std::string &file,
-                                            const std::set<std::string> &selected) {
-    switch (DetectBagFormat(file)) {
-        case BagFormat::kSqlite3:
-            return OpenSqliteStorage(file, selected);
-        case BagFormat::kMcap:
-            return OpenMcapStorage(file, selected);
-        default:
-            throw DatasetError(file + ": not a rosbag2 storage file (.db3 or .mcap)");
-    }
-}
-
-/// The storage files of the recording, each open on the selected topics.
-std::vector<std::unique_ptr<Rosbag2Storage>> OpenAll(const std::string &path,
-                                                     const std::set<std::string> &selected) {
-    std::vector<std::unique_ptr<Rosbag2Storage>> storages;
-    for (const auto &file : Rosbag2Files(path, DetectBagFormat(path)))
-        storages.push_back(OpenStorage(file, selected));
-    return storages;
-}
-
 class Rosbag2Reader final : public DatasetReader {
   public:
     explicit Rosbag2Reader(const DatasetConfig &config) : config_(config) {
@@ -63,40 +42,23 @@ class Rosbag2Reader final : public DatasetReader {
             topics.emplace_back(bag.ground_truth_topic, "rosbag.ground_truth_topic");
         std::set<std::string> selected;
         for (const auto &topic : topics) selected.insert(topic.first);
-        storages_ = OpenAll(bag.path, selected);
+        messages_ = OpenRecordedMessages(bag.path, selected);
         CheckTopics(topics);
-        heads_.resize(storages_.size());
-        live_.resize(storages_.size());
-        for (std::size_t i = 0; i < storages_.size(); ++i) Advance(i);
     }
 
     bool Next(DatasetEvent &event) override {
-        // The earliest head (a problem goes first; ties go to the earlier file).
-        std::size_t best = storages_.size();
-        for (std::size_t i = 0; i < storages_.size(); ++i) {
-            if (!live_[i]) continue;
-            if (!heads_[i].problem.empty()) {
-                best = i;
-                break;
-            }
-            if (best == storages_.size() || heads_[i].log_time_ns < heads_[best].log_time_ns)
-                best = i;
-        }
-        if (best == storages_.size()) return false;
-        Convert(heads_[best], event);
-        Advance(best);
+        Rosbag2Message message;
+        if (!messages_->Next(message)) return false;
+        Convert(message, event);
         return true;
     }
 
     [[nodiscard]] std::string source() const override { return config_.rosbag.path; }
 
   private:
-    void Advance(std::size_t i) { live_[i] = storages_[i]->Next(heads_[i]); }
-
     void CheckTopics(const std::vector<std::pair<std::string, std::string>> &topics) {
         std::map<std::string, std::string> present;
-        for (const auto &storage : storages_)
-            for (const auto &t : storage->topics()) present.emplace(t.name, t.type);
+        for (const auto &t : messages_->topics()) present.emplace(t.name, t.type);
         for (const auto &[topic, key] : topics) {
             if (present.count(topic)) continue;
             std::string list;
@@ -181,9 +143,7 @@ class Rosbag2Reader final : public DatasetReader {
     }
 
     DatasetConfig config_;
-    std::vector<std::unique_ptr<Rosbag2Storage>> storages_;
-    std::vector<Rosbag2Message> heads_;
-    std::vector<bool> live_;
+    std::unique_ptr<RecordedMessages> messages_;
     bool gt_is_odometry_ = false;
     std::size_t radar_count_ = 0;
 };
@@ -192,7 +152,7 @@ class Rosbag2Reader final : public DatasetReader {
 
 std::vector<TopicSummary> ListRosbag2Topics(const DatasetConfig &config) {
     std::map<std::string, TopicSummary> topics;
-    for (const auto &storage : OpenAll(config.rosbag.path, {})) {
+    for (const auto &storage : OpenRosbag2Storages(config.rosbag.path, {})) {
         for (const auto &t : storage->topics()) {
             topics[t.name].topic = t.name;
             topics[t.name].type = t.type;

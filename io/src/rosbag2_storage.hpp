@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "dorado/io/recorded_messages.hpp"
+
 namespace dorado::io {
 
 /// How a recording is stored, found from the file's first bytes (not its name).
@@ -17,19 +19,10 @@ enum class BagFormat { kRos1, kRosbag2Folder, kSqlite3, kMcap };
 /// Throws DatasetError naming the path when it is none of these.
 [[nodiscard]] BagFormat DetectBagFormat(const std::string &path);
 
-struct Rosbag2Topic {
-    std::string name;
-    std::string type;  ///< e.g. sensor_msgs/msg/PointCloud2
-};
-
+using Rosbag2Topic = RecordedTopic;
 /// One serialized message, or (problem non-empty, data empty) a damaged part of the file that was
 /// skipped: the stream goes on after it unless the storage says it ended.
-struct Rosbag2Message {
-    std::string topic;
-    int64_t log_time_ns = 0;  ///< the time the recorder received it
-    std::vector<uint8_t> data;
-    std::string problem;
-};
+using Rosbag2Message = RecordedMessage;
 
 /// One storage file, streamed in log-time order.
 class Rosbag2Storage {
@@ -46,6 +39,10 @@ class Rosbag2Storage {
 [[nodiscard]] std::unique_ptr<Rosbag2Storage> OpenSqliteStorage(
     const std::string &path, const std::set<std::string> &selected);
 [[nodiscard]] std::unique_ptr<Rosbag2Storage> OpenMcapStorage(
+    const std::string &path, const std::set<std::string> &selected);
+
+/// Every storage file of a recording, each open on the selected topics (empty: all).
+[[nodiscard]] std::vector<std::unique_ptr<Rosbag2Storage>> OpenRosbag2Storages(
     const std::string &path, const std::set<std::string> &selected);
 
 /// The storage files of a recording: the folder's metadata.yaml list, or the one file.

@@ -6,13 +6,14 @@
 
 #include "dorado_node.hpp"
 #include "node_settings.hpp"
+#include "ros1_params.hpp"
 
 int main(int argc, char **argv) {
     ros::init(argc, argv, "dorado_ros");  // roscpp's SIGINT handler: a clean ros::shutdown
     ros::NodeHandle node, private_node("~");
     try {
-        dorado::ros_node::DoradoNode dorado(node,
-                                            dorado::ros_node::ReadNodeSettings(node, private_node));
+        const dorado::ros_node::Ros1Params params(node, private_node);
+        dorado::ros_node::DoradoNode dorado(node, dorado::ros_node::ReadNodeSettings(params));
         ros::AsyncSpinner spinner(2);
         spinner.start();
         ros::waitForShutdown();

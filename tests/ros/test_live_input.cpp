@@ -1,4 +1,4 @@
-// The live node's stream bookkeeping (ros/src/live_input.hpp), without ROS: which stamps are
+// The live node's stream bookkeeping (ros/common/live_input.hpp), without ROS: which stamps are
 // dropped, which gaps reset, how faults are summarised, the latency quantiles.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// dorado_ros's parameters on one field list (ros/src/node_fields.hpp, ROS-free): every member of
+// dorado_ros's parameters on one field list (ros/common/node_fields.hpp, ROS-free): every member of
 // NodeSettings is a parameter of the list, or named here as read otherwise.
 #include <gtest/gtest.h>
 

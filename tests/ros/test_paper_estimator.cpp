@@ -1,4 +1,4 @@
-// The paper node's threshold_mode / threshold_value (ros/src/paper_estimator.hpp), without ROS:
+// The paper node's threshold_mode / threshold_value (ros/common/paper_estimator.hpp), without ROS:
 // each accepted mode sets dorado's estimator, and any other is an error naming the parameter and
 // listing the accepted values (never a silent `fixed`).
 #include <gtest/gtest.h>

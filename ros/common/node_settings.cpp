@@ -1,7 +1,5 @@
 #include "node_settings.hpp"
 
-#include <ros/ros.h>
-
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -15,38 +13,21 @@
 namespace dorado::ros_node {
 namespace {
 
-// Looks a parameter up privately first, then in the node's namespace.
+// The parameters through a ParamSource, with the checks every parameter shares.
 class Params {
   public:
-    Params(const ros::NodeHandle &node, const ros::NodeHandle &private_node)
-        : node_(node), private_(private_node) {}
+    explicit Params(const ParamSource &source) : source_(source) {}
 
     template <typename T>
     bool Get(const std::string &name, T &value) const {
-        const ros::NodeHandle *handle = Which(name);
-        if (!handle) return false;
-        if (!handle->getParam(name, value)) Fail(name, "has the wrong type");
-        return true;
+        return source_.Get(name, value);
     }
 
     // A list of numbers (ints or doubles) of the given size.
     bool GetNumbers(const std::string &name, std::size_t size, std::vector<double> &values) const {
-        const ros::NodeHandle *handle = Which(name);
-        if (!handle) return false;
-        XmlRpc::XmlRpcValue list;
-        handle->getParam(name, list);
-        if (list.getType() != XmlRpc::XmlRpcValue::TypeArray ||
-            static_cast<std::size_t>(list.size()) != size)
+        if (!source_.GetNumbers(name, values)) return false;
+        if (values.size() != size)
             Fail(name, "must be a list of " + std::to_string(size) + " numbers");
-        values.clear();
-        for (int i = 0; i < list.size(); ++i) {
-            if (list[i].getType() == XmlRpc::XmlRpcValue::TypeDouble)
-                values.push_back(static_cast<double>(list[i]));
-            else if (list[i].getType() == XmlRpc::XmlRpcValue::TypeInt)
-                values.push_back(static_cast<int>(list[i]));
-            else
-                Fail(name, "must be a list of " + std::to_string(size) + " numbers");
-        }
         return true;
     }
 
@@ -55,13 +36,7 @@ class Params {
     }
 
   private:
-    const ros::NodeHandle *Which(const std::string &name) const {
-        if (private_.hasParam(name)) return &private_;
-        if (node_.hasParam(name)) return &node_;
-        return nullptr;
-    }
-    const ros::NodeHandle &node_;
-    const ros::NodeHandle &private_;
+    const ParamSource &source_;
 };
 
 // Reads the node's field list (node_fields.hpp): each parameter that is set into its member.
@@ -141,10 +116,34 @@ void ReadThreshold(const Params &params, odometry::EgoVelocityConfig &ego) {
                         has_value ? std::optional<double>(value) : std::nullopt, ego);
 }
 
+// The names of the field list's parameters.
+struct FieldNames {
+    std::vector<std::string> &names;
+
+    template <typename T>
+    void operator()(const char *name, T &, const char *) const {
+        names.emplace_back(name);
+    }
+    template <typename E>
+    void operator()(const char *name, E &, const Choices<E> &, const char *) const {
+        names.emplace_back(name);
+    }
+};
+
 }  // namespace
 
-NodeSettings ReadNodeSettings(const ros::NodeHandle &node, const ros::NodeHandle &private_node) {
-    const Params params(node, private_node);
+std::vector<std::string> ParameterNames() {
+    // Read by hand (node_fields.hpp says which), then the field list.
+    std::vector<std::string> names{"config",          "odometry_config", "mapper_config",
+                                   "sensor_pose",     "calib_rot",       "sensor_to_icr_x",
+                                   "threshold_mode",  "threshold_value", "initial_pose"};
+    NodeSettings s;
+    VisitFields(s, FieldNames{names});
+    return names;
+}
+
+NodeSettings ReadNodeSettings(const ParamSource &source) {
+    const Params params(source);
     NodeSettings s;
     std::string config_path;
     const bool has_config = params.Get("config", config_path) && !config_path.empty();

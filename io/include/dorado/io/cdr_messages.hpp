@@ -1,6 +1,9 @@
 #pragma once
-// Private to dorado_io: the ROS2 messages dorado reads, from their CDR serialization (the
-// rosbag2 "cdr" format: a 4-byte encapsulation header, then XCDR1 with alignment).
+/// @file cdr_messages.hpp
+/// The ROS 2 messages dorado reads, from their CDR serialization (the rosbag2 "cdr" format and
+/// what a ROS 2 publisher sends on DDS: a 4-byte encapsulation header, then XCDR1 with
+/// alignment). One codec for the rosbag2 reader, dorado_ros2 and `dorado replay`. Built with
+/// rosbag2 support (Fast-CDR; DORADO_HAVE_ROSBAG2).
 
 #include <Eigen/Geometry>
 #include <cstdint>
@@ -20,20 +23,28 @@ struct CdrHeader {
 struct CdrPointCloud2 {
     CdrHeader header;
     CloudBufferView cloud;
+    bool is_dense = false;
 };
 
-/// sensor_msgs/msg/Imu (orientation and covariances are not used).
+/// sensor_msgs/msg/Imu, every field (row-major 3x3 covariances, as in the message).
 struct CdrImu {
     CdrHeader header;
+    Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+    double orientation_covariance[9] = {};
     Eigen::Vector3d omega_radps = Eigen::Vector3d::Zero();
+    double omega_covariance[9] = {};
     Eigen::Vector3d accel_mps2 = Eigen::Vector3d::Zero();
+    double accel_covariance[9] = {};
 };
 
-/// The pose of nav_msgs/msg/Odometry or geometry_msgs/msg/PoseStamped.
+/// The pose of nav_msgs/msg/Odometry or geometry_msgs/msg/PoseStamped (and, of an Odometry, its
+/// child frame and pose covariance; the twist is not read).
 struct CdrPose {
     CdrHeader header;
+    std::string child_frame_id;
     Eigen::Vector3d position = Eigen::Vector3d::Zero();
     Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+    double covariance[36] = {};
 };
 
 /// Each throws DecodeError when the bytes end early or hold an invalid value.

@@ -1,18 +1,16 @@
 #pragma once
 /// @file node_settings.hpp
-/// dorado_ros's parameters: the paper node's (andresgalu/doppler_odometry, same names and
+/// The live nodes' parameters (dorado_ros, dorado_ros2): the paper node's (andresgalu/doppler_odometry, same names and
 /// meanings) mapped onto dorado's dataset and front-end configuration, and dorado's own.
 
 #include <Eigen/Geometry>
 #include <string>
+#include <vector>
 
 #include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/io/dataset_config.hpp"
 #include "live_input.hpp"
-
-namespace ros {
-class NodeHandle;
-}
+#include "param_source.hpp"
 
 namespace dorado::ros_node {
 
@@ -40,10 +38,12 @@ struct NodeSettings {
     std::string description;          ///< what was read from where, for the start-up message
 };
 
-/// Reads every parameter (private `~name` first, then `name` in the node's namespace, as the
-/// paper's launch file sets them). Throws io::ConfigError (a bad YAML, a parameter of the wrong
-/// size or type) naming the parameter.
-[[nodiscard]] NodeSettings ReadNodeSettings(const ros::NodeHandle &node,
-                                            const ros::NodeHandle &private_node);
+/// Reads every parameter from @p source (ROS1: private `~name` first, then `name` in the node's
+/// namespace, as the paper's launch file sets them; ROS 2: the node's `ros__parameters`). Throws
+/// io::ConfigError (a bad YAML, a parameter of the wrong size or type) naming the parameter.
+[[nodiscard]] NodeSettings ReadNodeSettings(const ParamSource &source);
+
+/// The name of every parameter ReadNodeSettings reads (for an unknown name's "did you mean").
+[[nodiscard]] std::vector<std::string> ParameterNames();
 
 }  // namespace dorado::ros_node
