@@ -17,6 +17,7 @@ void RegisterEvalCommand(CLI::App &app);
 void RegisterBenchCommand(CLI::App &app);
 void RegisterTwistCommand(CLI::App &app);
 void RegisterConfigCommand(CLI::App &app);
+void RegisterReplayCommand(CLI::App &app);  ///< cmd_replay.cpp with Cyclone DDS, else _none
 
 /// How a dataset description's relative paths resolve, for each command's --data help.
 inline constexpr const char *kDataOptionHelp =

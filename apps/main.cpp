@@ -85,6 +85,7 @@ int main(int argc, char **argv) {
     dorado::apps::RegisterBenchCommand(app);
     dorado::apps::RegisterTwistCommand(app);
     dorado::apps::RegisterConfigCommand(app);
+    dorado::apps::RegisterReplayCommand(app);
 
     try {
         app.parse(argc, argv);
