@@ -18,6 +18,7 @@
 
 #include "dorado/io/cdr_messages.hpp"
 #include "dorado/ros2/dds.hpp"
+#include "ros2_messages.h"
 
 namespace {
 
