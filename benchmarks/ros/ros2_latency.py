@@ -1,0 +1,43 @@
+#!/usr/bin/python3
+"""dorado_ros2 latency from a scan's arrival (the DDS reader's callback) to the write of its
+/dorado/map_odom (mapper on; /doppler_odom with it off), median and p95, over DDS on localhost
+with `dorado replay` of a simulated recording at RATE. Prints numbers; asserts nothing.
+Usage: ros2_latency.py BUILD_DIR [RATE] [SECONDS]   (e.g. benchmarks/ros/ros2_latency.py build 1)"""
+import os
+import shutil
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tests",
+                                "ros2"))
+import dds_harness as h  # noqa: E402
+
+
+def main(build, rate, seconds):
+    why = h.missing()
+    if why:
+        print(f"skipped: {why}")
+        return
+    tools = [os.path.join(build, "apps", "dorado"), os.path.join(build, "ros2", "dorado_ros2"),
+             os.path.join(build, "tests", "ros2", "dds_recorder")]
+    work = tempfile.mkdtemp(prefix="dorado_ros2_latency_")
+    dds = h.Dds(work, *tools)
+    try:
+        recording = h.Recording(tools[0], work, seconds)
+        for mapper in (False, True):
+            run = dds.run_node(f"mapper_{mapper}", 69, recording.path, rate, expect=recording.scans,
+                               config=recording.dataset, mapper=mapper)
+            s, lat = run.summary, run.summary["latency_ms"]
+            print(f"dorado_ros2 seq04 {seconds} s at {rate}x, mapper {'on' if mapper else 'off'}: "
+                  f"{s['published']} of {s['received']} scans published, dropped "
+                  f"{s['dropped'] or 'none'}; latency scan arrival -> "
+                  f"{'/dorado/map_odom' if mapper else '/doppler_odom'} median {lat['median']:.2f} "
+                  f"ms, p95 {lat['p95']:.2f} ms")
+    finally:
+        dds.close()
+        shutil.rmtree(work, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1], float(sys.argv[2]) if len(sys.argv) > 2 else 1.0,
+         int(sys.argv[3]) if len(sys.argv) > 3 else 10)
