@@ -138,35 +138,27 @@ std::vector<uint8_t> TakeOne(dds_entity_t reader) {
     return {};
 }
 
-// A writer and a reader of one type on a topic of kDomain, matched.
+// A writer and a reader (without a listener: the test takes) of one type on a topic, matched.
 struct Loopback {
     Loopback(Participant &participant, const std::string &topic, const dds_topic_descriptor_t &type)
         : writer(participant, topic, type, QosProfile::kDefault),
-          reader(participant, topic, type, QosProfile::kDefault, 10, [](std::vector<uint8_t>) {}) {
+          reader(dds_create_reader(participant.get(), participant.Topic(topic, type),
+                                   MakeQos(QosProfile::kDefault).get(), nullptr)) {
         for (int i = 0; i < 500 && writer.Subscribers() == 0; ++i)
             std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
-    // The bytes of one sample as Cyclone serializes it (taken before the listener would).
+    // The bytes of one sample as Cyclone serializes it.
     std::vector<uint8_t> RoundTrip(const void *sample) {
         writer.Write(sample);
         return TakeOne(reader.get());
     }
     Writer writer;
-    RawReader reader;
+    Entity reader;
 };
 
 TEST(Ros2Cdr, OdometryTheNodeWritesDecodesWithTheRosbag2Codec) {
     Participant participant(kDomain);
-    // A RawReader takes in its listener: this test takes itself from a reader without one.
-    Writer writer(participant, "/dorado/test_odom", nav_msgs_msg_dds__Odometry__desc,
-                  QosProfile::kDefault);
-    const QosPtr qos = MakeQos(QosProfile::kDefault);
-    const Entity reader(dds_create_reader(
-        participant.get(), participant.Topic("/dorado/test_odom", nav_msgs_msg_dds__Odometry__desc),
-        qos.get(), nullptr));
-    for (int i = 0; i < 500 && writer.Subscribers() == 0; ++i)
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
-
+    Loopback loopback(participant, "/dorado/test_odom", nav_msgs_msg_dds__Odometry__desc);
     ros_node::OdometryOutput odometry;
     odometry.stamp_ns = 1690000001234567891LL;
     odometry.frame_id = "map";
@@ -176,8 +168,7 @@ TEST(Ros2Cdr, OdometryTheNodeWritesDecodesWithTheRosbag2Codec) {
     for (int i = 0; i < 36; ++i) odometry.pose_covariance(i / 6, i % 6) = 0.01 * i;
     odometry.twist_child.v_base_mps = Eigen::Vector3d(3, 0.1, 0);
     const nav_msgs_msg_dds__Odometry_ msg = OdometryOf(odometry);
-    writer.Write(&msg);
-    const std::vector<uint8_t> bytes = TakeOne(reader.get());
+    const std::vector<uint8_t> bytes = loopback.RoundTrip(&msg);
     ASSERT_GT(bytes.size(), 4u);
     EXPECT_EQ(bytes[0], 0x00);  // CDR_LE: plain CDR (XCDR1), little-endian, as rosbag2 stores
     EXPECT_EQ(bytes[1], 0x01);
