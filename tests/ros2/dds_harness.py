@@ -78,7 +78,7 @@ class Run:
 
 
 class Recording:
-    """`dorado simulate --sequence seq04` for `seconds`, its radar and IMU as a rosbag2 .db3
+    """`dorado simulate --sequence seq04` for `seconds`, its recording as a rosbag2 .db3
     (tests/io/make_ros2_bags.py's conversion), a dataset YAML on it, and `dorado map`'s
     trajectory of it."""
 
@@ -88,8 +88,7 @@ class Recording:
                         "--out", sim], check=True, stderr=subprocess.DEVNULL,
                        stdout=subprocess.DEVNULL)
         import make_ros2_bags
-        self.messages = [m for m in make_ros2_bags.ros1_messages(os.path.join(sim, "data.bag"))
-                         if m[0] in (RADAR, IMU)]
+        self.messages = list(make_ros2_bags.ros1_messages(os.path.join(sim, "data.bag")))
         self.path = os.path.join(work_dir, "data.db3")
         write_db3(self.path, self.messages)
         self.scans = sum(1 for m in self.messages if m[0] == RADAR)
