@@ -32,7 +32,8 @@ def main(build, rate, seconds):
                   f"{s['published']} of {s['received']} scans published, dropped "
                   f"{s['dropped'] or 'none'}; latency scan arrival -> "
                   f"{'/dorado/map_odom' if mapper else '/doppler_odom'} median {lat['median']:.2f} "
-                  f"ms, p95 {lat['p95']:.2f} ms")
+                  f"ms, p95 {lat['p95']:.2f} ms; the front end's own time median "
+                  f"{s['front_end_ms']['median']:.2f} ms")
     finally:
         dds.close()
         shutil.rmtree(work, ignore_errors=True)

@@ -90,7 +90,8 @@ class LivePipeline {
     StampGuard stamps_;
     FaultLog faults_;    ///< dropped scans, by cause
     FaultLog warnings_;  ///< scans used despite a fault (a gap, a prior substitution), lost inputs
-    LatencyStats latency_;
+    LatencyStats latency_;     ///< arrival -> published
+    LatencyStats front_end_time_;  ///< the front end's own time per scan (Process)
     PoseCovariance pose_covariance_;
     Eigen::Isometry3d T_world_base_initial_;
 
