@@ -55,11 +55,14 @@ void RegisterReplayCommand(CLI::App &app) {
     auto path = std::make_shared<std::string>();
     auto options = std::make_shared<ros2::ReplayOptions>();
     auto topics = std::make_shared<std::vector<std::string>>();
+    auto remaps = std::make_shared<std::vector<std::string>>();
     cmd->add_option("recording", *path, "rosbag2 folder (metadata.yaml), .db3 or .mcap")
         ->required();
     cmd->add_option("--rate,-r", options->rate, "times the recorded rate (> 0)")
         ->capture_default_str();
     cmd->add_option("--topics", *topics, "only these topics (default: every one it can publish)");
+    cmd->add_option("--remap", *remaps, "publish topic FROM under the name TO (FROM:=TO)")
+        ->type_name("FROM:=TO");
     cmd->add_option("--start-offset", options->start_offset_s, "skip this much of the start [s]");
     cmd->add_option("--playback-duration", options->playback_duration_s,
                     "play only this much of the recording [s] (0: all)");
@@ -68,8 +71,14 @@ void RegisterReplayCommand(CLI::App &app) {
     cmd->add_flag("--clock", options->clock,
                   "publish /clock (rosgraph_msgs/msg/Clock) at each message's recorded time, for "
                   "nodes with use_sim_time");
-    cmd->callback([path, options, topics]() {
+    cmd->callback([path, options, topics, remaps]() {
         options->topics = std::set<std::string>(topics->begin(), topics->end());
+        for (const std::string &rule : *remaps) {
+            const std::size_t at = rule.find(":=");
+            if (at == std::string::npos || at == 0 || at + 2 == rule.size())
+                throw CLI::ValidationError("--remap", rule + ": expected FROM:=TO");
+            options->remaps[rule.substr(0, at)] = rule.substr(at + 2);
+        }
         const int code = Run(*path, *options);
         if (code != 0) throw CLI::RuntimeError(code);
     });

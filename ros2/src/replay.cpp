@@ -75,9 +75,10 @@ ReplayReport Replay(io::RecordedMessages &messages, Participant &participant,
             continue;
         }
         types[topic.name] = topic.type;
+        const auto remap = options.remaps.find(topic.name);
         // ros2 bag play's default: reliable, volatile; a deep history for a slow subscriber.
         writers[topic.name] = std::make_unique<Writer>(
-            participant, topic.name,
+            participant, remap == options.remaps.end() ? topic.name : remap->second,
             topic.type == kCloud2 ? sensor_msgs_msg_dds__PointCloud2__desc
                                   : sensor_msgs_msg_dds__Imu__desc,
             QosProfile::kDefault, 1000);

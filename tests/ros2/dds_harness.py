@@ -155,13 +155,14 @@ class Dds:
         with open(path) as f:
             return f.read()
 
-    def start_node(self, name, domain, **params):
-        """dorado_ros2 with `params` in a --params-file (ROS 2's layout), up and subscribed."""
+    def start_node(self, name, domain, ros_args=(), **params):
+        """dorado_ros2 with `params` in a --params-file (ROS 2's layout) and `ros_args` after it,
+        up and subscribed."""
         params.setdefault("summary_file", os.path.join(self.dir, name + ".json"))
         path = os.path.join(self.dir, name + "_params.yaml")
         with open(path, "w") as f:
             json.dump({"dorado_ros2": {"ros__parameters": params}}, f)  # JSON is YAML
-        node = self.start([self.node, "--ros-args", "--params-file", path], name, domain)
+        node = self.start([self.node, "--ros-args", "--params-file", path, *ros_args], name, domain)
         self.wait_for(lambda: node.poll() is not None or "; domain " in self.text(node.log_paths[1]),
                       30, f"{name}: dorado_ros2 did not start")
         if node.poll() is not None:
@@ -178,7 +179,7 @@ class Dds:
         return p.returncode, self.text(p.log_paths[0]) + self.text(p.log_paths[1])
 
     def run_node(self, name, domain, recording, rate, replays=((),), topics=(RADAR,), expect=None,
-                 **params):
+                 ros_args=(), **params):
         """The recorder and the node on `domain`, each replay (its extra arguments) in turn, then
         SIGINT to the node once the odometry stopped coming (or `expect` /doppler_odom)."""
         rec_dir = os.path.join(self.dir, name + "_rec")
@@ -186,7 +187,7 @@ class Dds:
         recorder = self.start([self.recorder, rec_dir, *ODOMETRY], name + "_rec", domain)
         self.wait_for(lambda: "ready" in self.text(recorder.log_paths[0]), 30,
                       f"{name}: dds_recorder did not start")
-        node = self.start_node(name, domain, **params)
+        node = self.start_node(name, domain, ros_args, **params)
         for i, extra in enumerate(replays):
             code, out = self.replay(f"{name}_replay{i}", domain, recording, rate, *extra,
                                     topics=topics)

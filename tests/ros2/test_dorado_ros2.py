@@ -186,9 +186,13 @@ class DoradoRos2(unittest.TestCase):
         self.assertEqual(run.summary["published"], run.summary["received"])
         self.assertGreater(run.summary["published"], self.scans // 2)
 
-    def test_ros_domain_id_is_honoured(self):
+    def test_ros_domain_id_is_honoured_and_topics_remapped(self):
         other = self.dds.start_node("other_domain", 68, config=self.dataset)
-        run = self.run_node("domain", 67, self.recording, 5, queue_size=1000)
+        # The radar under another name, on both sides (replay --remap, the node's -r).
+        remap = RADAR + ":=/radar/points"
+        run = self.run_node("domain", 67, self.recording, 5, replays=(("--remap", remap),),
+                            ros_args=("-r", remap), queue_size=1000)
+        self.assertIn("radar /radar/points", run.err)
         self.assertEqual(run.code, 0, run.err)
         self.assertEqual(self.dds.stop(other), 0)
         with open(other.summary_path) as f:

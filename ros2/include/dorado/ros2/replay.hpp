@@ -23,6 +23,8 @@ struct ReplayOptions {
     double wait_subscribers_s = 0.0;   ///< wait (up to) this long for each topic's subscriber
     bool clock = false;                ///< publish /clock (rosgraph_msgs/msg/Clock) at log time
     std::set<std::string> topics;      ///< the topics to publish (empty: every one dorado can)
+    /// Recorded topic name -> the name it is published under (`ros2 bag play --remap`).
+    std::map<std::string, std::string> remaps;
 
     /// Throws std::invalid_argument naming the option.
     void Validate() const;
