@@ -20,10 +20,9 @@ int Run(const std::string &path, const ros2::ReplayOptions &options) {
     ros2::Participant participant(ros2::DomainFromEnvironment());
     std::fprintf(stderr, "replay: %s on domain %u at %.3gx\n", path.c_str(), participant.domain(),
                  options.rate);
-    const ros2::ReplayReport report =
-        ros2::Replay(*messages, participant, options, [](long long count) {
-            std::fprintf(stderr, "replay: %lld messages published\r", count);
-        });
+    const ros2::ReplayReport report = ros2::Replay(
+        *messages, participant, options,
+        [](long long count) { std::fprintf(stderr, "replay: %lld messages published\r", count); });
     for (const std::string &skipped : report.skipped_topics)
         std::fprintf(stderr, "replay: not published: %s\n", skipped.c_str());
     long long total = 0;
@@ -49,7 +48,8 @@ int Run(const std::string &path, const ros2::ReplayOptions &options) {
 void RegisterReplayCommand(CLI::App &app) {
     auto *cmd = app.add_subcommand(
         "replay",
-        "Publish a rosbag2 recording's PointCloud2 and Imu topics on DDS with ROS 2's names, types, "
+        "Publish a rosbag2 recording's PointCloud2 and Imu topics on DDS with ROS 2's names, "
+        "types, "
         "QoS and CDR (domain ROS_DOMAIN_ID), at the recorded rate or --rate times it, as `ros2 bag "
         "play` would. Exit 2 when messages had to be skipped");
     auto path = std::make_shared<std::string>();

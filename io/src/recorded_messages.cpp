@@ -75,8 +75,9 @@ std::vector<std::unique_ptr<Rosbag2Storage>> OpenRosbag2Storages(
 std::unique_ptr<RecordedMessages> OpenRecordedMessages(const std::string &path,
                                                        const std::set<std::string> &selected) {
     if (DetectBagFormat(path) == BagFormat::kRos1)
-        throw DatasetError(path + ": a ROS1 bag; only rosbag2 recordings (a folder with "
-                                  "metadata.yaml, .db3, .mcap) are read as ROS 2 messages");
+        throw DatasetError(path +
+                           ": a ROS1 bag; only rosbag2 recordings (a folder with "
+                           "metadata.yaml, .db3, .mcap) are read as ROS 2 messages");
     return std::make_unique<MergedStorages>(OpenRosbag2Storages(path, selected));
 }
 

@@ -16,8 +16,9 @@ namespace {
 
 std::unique_ptr<RecordedMessages> OpenRecordedMessages(const std::string &path,
                                                        const std::set<std::string> &) {
-    throw DatasetError(path + ": dorado was built without rosbag2 support (libsqlite3-dev, "
-                              "libzstd-dev, liblz4-dev, zlib1g-dev, libfastcdr-dev)");
+    throw DatasetError(path +
+                       ": dorado was built without rosbag2 support (libsqlite3-dev, "
+                       "libzstd-dev, liblz4-dev, zlib1g-dev, libfastcdr-dev)");
 }
 
 std::vector<TopicSummary> ListRosbag2Topics(const DatasetConfig &config) {

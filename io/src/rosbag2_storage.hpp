@@ -24,15 +24,8 @@ using Rosbag2Topic = RecordedTopic;
 /// skipped: the stream goes on after it unless the storage says it ended.
 using Rosbag2Message = RecordedMessage;
 
-/// One storage file, streamed in log-time order.
-class Rosbag2Storage {
-  public:
-    virtual ~Rosbag2Storage() = default;
-    /// Every topic the file declares, with its type.
-    [[nodiscard]] virtual const std::vector<Rosbag2Topic> &topics() const = 0;
-    /// The next message on a selected topic (or a problem); false at the end.
-    virtual bool Next(Rosbag2Message &message) = 0;
-};
+/// One storage file, streamed in log-time order: a recording of one file.
+using Rosbag2Storage = RecordedMessages;
 
 /// Opens a file; `selected` names the topics to stream (empty = all). Throws DatasetError when the
 /// file cannot be opened at all.

@@ -151,8 +151,8 @@ void LivePipeline::Handle(const LiveCloud &cloud) {
             "map, no prior)",
             stamps_.last_interval_s(), settings_.input_topic.c_str(), settings_.gaps.max_gap_s);
         PublishWritten(front_end_.Reset(T_world_base));
-    } else if (gap == GapVerdict::kIntegrate && CountWarning("gap integrated over",
-                                                             std::to_string(stamps_.last_interval_s()))) {
+    } else if (gap == GapVerdict::kIntegrate &&
+               CountWarning("gap integrated over", std::to_string(stamps_.last_interval_s()))) {
         Log(LogLevel::kWarn,
             "%.2f s since the previous scan (ordinary %.2f s): integrated over the real "
             "interval; further gaps are summarised",
@@ -240,10 +240,10 @@ void LivePipeline::WatchImu(bool imu_current, int64_t stamp_ns) {
             warnings_.Count("imu stalled", settings_.imu_topic);
         }
         const std::string since =
-            last_ns == 0 ? "no sample yet"
-                         : "last sample " +
-                               std::to_string(static_cast<double>(stamp_ns - last_ns) * 1e-9) +
-                               " s before the scan";
+            last_ns == 0
+                ? "no sample yet"
+                : "last sample " + std::to_string(static_cast<double>(stamp_ns - last_ns) * 1e-9) +
+                      " s before the scan";
         Log(LogLevel::kWarn, "%s has stalled (%s): %s until it resumes",
             settings_.imu_topic.c_str(), since.c_str(),
             prior_needs_imu ? "the doppler prior stands in" : "the odometry falls back");
@@ -315,27 +315,27 @@ void LivePipeline::Shutdown(bool finish) {
                  "%s; latency arrival->publish median %.2f ms, p95 %.2f ms (the front end's own "
                  "time median %.2f ms)\n",
                  name_.c_str(), counts_.received, counts_.processed, counts_.published,
-                 counts_.resets, dropped.empty() ? "none" : dropped.c_str(),
-                 latency_.Quantile(0.5), latency_.Quantile(0.95), front_end_time_.Quantile(0.5));
+                 counts_.resets, dropped.empty() ? "none" : dropped.c_str(), latency_.Quantile(0.5),
+                 latency_.Quantile(0.95), front_end_time_.Quantile(0.5));
     WriteSummary();
 }
 
 void LivePipeline::WriteSummary() const {
     if (settings_.summary_file.empty()) return;
-    nlohmann::json summary = {{"received", counts_.received},
-                              {"processed", counts_.processed},
-                              {"published", counts_.published},
-                              {"resets", counts_.resets},
-                              {"dropped", faults_.totals()},
-                              {"dropped_first", faults_.first_details()},
-                              {"warnings", warnings_.totals()},
-                              {"latency_ms",
-                               {{"count", latency_.size()},
-                                {"median", latency_.Quantile(0.5)},
-                                {"p95", latency_.Quantile(0.95)}}},
-                              {"front_end_ms",
-                               {{"median", front_end_time_.Quantile(0.5)},
-                                {"p95", front_end_time_.Quantile(0.95)}}}};
+    nlohmann::json summary = {
+        {"received", counts_.received},
+        {"processed", counts_.processed},
+        {"published", counts_.published},
+        {"resets", counts_.resets},
+        {"dropped", faults_.totals()},
+        {"dropped_first", faults_.first_details()},
+        {"warnings", warnings_.totals()},
+        {"latency_ms",
+         {{"count", latency_.size()},
+          {"median", latency_.Quantile(0.5)},
+          {"p95", latency_.Quantile(0.95)}}},
+        {"front_end_ms",
+         {{"median", front_end_time_.Quantile(0.5)}, {"p95", front_end_time_.Quantile(0.95)}}}};
     std::ofstream out(settings_.summary_file);
     out << summary.dump(2) << '\n';
     if (!out)

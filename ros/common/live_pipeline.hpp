@@ -50,7 +50,8 @@ class LivePipeline {
 
     /// A scan arrived (any thread): queued, or the oldest waiting one dropped as late.
     void OnCloud(LiveCloud cloud);
-    /// A radar message that could not even be read (its CDR bytes): counted as received and dropped.
+    /// A radar message that could not even be read (its CDR bytes): counted as received and
+    /// dropped.
     void OnUnreadable(const std::string &error);
     /// An IMU sample arrived (any thread); old or repeated stamps are ignored.
     void OnImu(const ImuSample &sample);
@@ -90,7 +91,7 @@ class LivePipeline {
     StampGuard stamps_;
     FaultLog faults_;    ///< dropped scans, by cause
     FaultLog warnings_;  ///< scans used despite a fault (a gap, a prior substitution), lost inputs
-    LatencyStats latency_;     ///< arrival -> published
+    LatencyStats latency_;         ///< arrival -> published
     LatencyStats front_end_time_;  ///< the front end's own time per scan (Process)
     PoseCovariance pose_covariance_;
     Eigen::Isometry3d T_world_base_initial_;

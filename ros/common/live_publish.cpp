@@ -10,18 +10,24 @@ namespace dorado::ros_node {
 
 const char *TopicName(OdometryTopic topic) {
     switch (topic) {
-        case OdometryTopic::kDopplerOdom: return "/doppler_odom";
-        case OdometryTopic::kMapOdom: return "/dorado/map_odom";
-        case OdometryTopic::kSmoothedOdom: return "/dorado/smoothed_odom";
+        case OdometryTopic::kDopplerOdom:
+            return "/doppler_odom";
+        case OdometryTopic::kMapOdom:
+            return "/dorado/map_odom";
+        case OdometryTopic::kSmoothedOdom:
+            return "/dorado/smoothed_odom";
     }
     return "";
 }
 
 const char *TopicName(CloudTopic topic) {
     switch (topic) {
-        case CloudTopic::kStaticPoints: return "/dorado/static_points";
-        case CloudTopic::kDynamicPoints: return "/dorado/dynamic_points";
-        case CloudTopic::kLocalMap: return "/dorado/local_map";
+        case CloudTopic::kStaticPoints:
+            return "/dorado/static_points";
+        case CloudTopic::kDynamicPoints:
+            return "/dorado/dynamic_points";
+        case CloudTopic::kLocalMap:
+            return "/dorado/local_map";
     }
     return "";
 }
@@ -104,11 +110,11 @@ void LivePipeline::PublishWritten(const std::vector<mapping::WrittenPose> &writt
     if (!settings_.front_end.run_mapper) return;
     for (const mapping::WrittenPose &w : written) {
         // The covariance is the written motion's from the previous written pose (covariance.md).
-        sink_.Publish(OdometryTopic::kSmoothedOdom,
-                      {w.stamp_ns, settings_.map_frame, settings_.tf_to_frame,
-                       w.T_world_base * settings_.T_base_child,
-                       MapPoseCovariance(w.T_world_base, settings_.T_base_child, w.covariance),
-                       Twist{}});
+        sink_.Publish(
+            OdometryTopic::kSmoothedOdom,
+            {w.stamp_ns, settings_.map_frame, settings_.tf_to_frame,
+             w.T_world_base * settings_.T_base_child,
+             MapPoseCovariance(w.T_world_base, settings_.T_base_child, w.covariance), Twist{}});
     }
 }
 
@@ -121,8 +127,8 @@ void LivePipeline::Publish(int64_t stamp_ns, const RadarScan &scan,
                   {stamp_ns, settings_.tf_from_frame, settings_.tf_to_frame, T_odom_child,
                    pose_covariance_.covariance(), twist_child});
     if (settings_.publish_tf)
-        sink_.Publish(
-            TransformOutput{stamp_ns, settings_.tf_from_frame, settings_.tf_to_frame, T_odom_child});
+        sink_.Publish(TransformOutput{stamp_ns, settings_.tf_from_frame, settings_.tf_to_frame,
+                                      T_odom_child});
     Increment(counts_.published);
     if (!settings_.front_end.run_mapper) return;
 
@@ -130,10 +136,10 @@ void LivePipeline::Publish(int64_t stamp_ns, const RadarScan &scan,
     // see mapping::RegistrationResult::covariance), and map -> odom = T_map_base T_odom_base^-1.
     PublishWritten(result.registration.written);
     const Eigen::Isometry3d &T_map_base = result.T_world_base;
-    sink_.Publish(OdometryTopic::kMapOdom,
-                  {stamp_ns, settings_.map_frame, settings_.tf_to_frame, T_map_base * T_base_child,
-                   MapPoseCovariance(T_map_base, T_base_child, result.registration.covariance),
-                   twist_child});
+    sink_.Publish(
+        OdometryTopic::kMapOdom,
+        {stamp_ns, settings_.map_frame, settings_.tf_to_frame, T_map_base * T_base_child,
+         MapPoseCovariance(T_map_base, T_base_child, result.registration.covariance), twist_child});
     if (settings_.publish_tf)
         sink_.Publish(TransformOutput{stamp_ns, settings_.map_frame, settings_.tf_from_frame,
                                       T_map_base * result.T_world_base_odometry.inverse()});
@@ -155,8 +161,8 @@ void LivePipeline::PublishClouds(int64_t stamp_ns, const std::string &radar_fram
         std::chrono::duration<double>(Clock::now() - last_local_map_).count() >=
             settings_.local_map_period_s) {
         last_local_map_ = Clock::now();
-        sink_.Publish(CloudTopic::kLocalMap, CloudOutput{stamp_ns, settings_.map_frame,
-                                                         map->Points(), {}, {}});
+        sink_.Publish(CloudTopic::kLocalMap,
+                      CloudOutput{stamp_ns, settings_.map_frame, map->Points(), {}, {}});
     }
 }
 

@@ -134,9 +134,9 @@ struct FieldNames {
 
 std::vector<std::string> ParameterNames() {
     // Read by hand (node_fields.hpp says which), then the field list.
-    std::vector<std::string> names{"config",          "odometry_config", "mapper_config",
-                                   "sensor_pose",     "calib_rot",       "sensor_to_icr_x",
-                                   "threshold_mode",  "threshold_value", "initial_pose"};
+    std::vector<std::string> names{"config",         "odometry_config", "mapper_config",
+                                   "sensor_pose",    "calib_rot",       "sensor_to_icr_x",
+                                   "threshold_mode", "threshold_value", "initial_pose"};
     NodeSettings s;
     VisitFields(s, FieldNames{names});
     return names;

@@ -1,7 +1,8 @@
 #pragma once
 /// @file node_settings.hpp
-/// The live nodes' parameters (dorado_ros, dorado_ros2): the paper node's (andresgalu/doppler_odometry, same names and
-/// meanings) mapped onto dorado's dataset and front-end configuration, and dorado's own.
+/// The live nodes' parameters (dorado_ros, dorado_ros2): the paper node's
+/// (andresgalu/doppler_odometry, same names and meanings) mapped onto dorado's dataset and
+/// front-end configuration, and dorado's own.
 
 #include <Eigen/Geometry>
 #include <string>

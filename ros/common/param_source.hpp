@@ -1,9 +1,9 @@
 #pragma once
 /// @file param_source.hpp
 /// Where a live node's parameters come from, without ROS: the ROS1 parameter server
-/// (ros/src/ros1_params.cpp) or a ROS 2 `--params-file` YAML (ros2/src/ros2_params.cpp). Each getter
-/// returns false when the parameter is not set and throws io::ConfigError naming it when it is set
-/// with the wrong type.
+/// (ros/src/ros1_params.cpp) or a ROS 2 `--params-file` YAML (ros2/src/ros2_params.cpp). Each
+/// getter returns false when the parameter is not set and throws io::ConfigError naming it when it
+/// is set with the wrong type.
 
 #include <string>
 #include <vector>

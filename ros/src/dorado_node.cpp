@@ -51,7 +51,8 @@ void DoradoNode::OnCloud(const sensor_msgs::PointCloud2ConstPtr &msg) {
     cloud.stamp_ns = static_cast<int64_t>(msg->header.stamp.toNSec());
     cloud.frame_id = msg->header.frame_id;
     cloud.view = io::ViewOf(*msg);
-    cloud.owner = std::shared_ptr<const void>(msg.get(), [msg](const void *) {});  // roscpp's boost::shared_ptr
+    cloud.owner = std::shared_ptr<const void>(
+        msg.get(), [msg](const void *) {});  // roscpp's boost::shared_ptr
     pipeline_->OnCloud(std::move(cloud));
 }
 
@@ -75,18 +76,24 @@ void DoradoNode::Shutdown() {
 
 ros::Publisher &DoradoNode::PublisherOf(OdometryTopic topic) {
     switch (topic) {
-        case OdometryTopic::kMapOdom: return map_odom_pub_;
-        case OdometryTopic::kSmoothedOdom: return smoothed_odom_pub_;
-        case OdometryTopic::kDopplerOdom: break;
+        case OdometryTopic::kMapOdom:
+            return map_odom_pub_;
+        case OdometryTopic::kSmoothedOdom:
+            return smoothed_odom_pub_;
+        case OdometryTopic::kDopplerOdom:
+            break;
     }
     return odom_pub_;
 }
 
 const ros::Publisher &DoradoNode::PublisherOf(CloudTopic topic) const {
     switch (topic) {
-        case CloudTopic::kStaticPoints: return static_pub_;
-        case CloudTopic::kDynamicPoints: return dynamic_pub_;
-        case CloudTopic::kLocalMap: break;
+        case CloudTopic::kStaticPoints:
+            return static_pub_;
+        case CloudTopic::kDynamicPoints:
+            return dynamic_pub_;
+        case CloudTopic::kLocalMap:
+            break;
     }
     return local_map_pub_;
 }
@@ -125,9 +132,15 @@ void DoradoNode::Publish(CloudTopic topic, const CloudOutput &cloud) {
 
 void DoradoNode::Log(LogLevel level, const std::string &text) {
     switch (level) {
-        case LogLevel::kInfo: ROS_INFO("%s", text.c_str()); break;
-        case LogLevel::kWarn: ROS_WARN("%s", text.c_str()); break;
-        case LogLevel::kError: ROS_ERROR("%s", text.c_str()); break;
+        case LogLevel::kInfo:
+            ROS_INFO("%s", text.c_str());
+            break;
+        case LogLevel::kWarn:
+            ROS_WARN("%s", text.c_str());
+            break;
+        case LogLevel::kError:
+            ROS_ERROR("%s", text.c_str());
+            break;
     }
 }
 

@@ -28,8 +28,12 @@ bool Ros1Params::GetValue(const std::string &name, T &value) const {
 bool Ros1Params::Get(const std::string &name, std::string &value) const {
     return GetValue(name, value);
 }
-bool Ros1Params::Get(const std::string &name, bool &value) const { return GetValue(name, value); }
-bool Ros1Params::Get(const std::string &name, int &value) const { return GetValue(name, value); }
+bool Ros1Params::Get(const std::string &name, bool &value) const {
+    return GetValue(name, value);
+}
+bool Ros1Params::Get(const std::string &name, int &value) const {
+    return GetValue(name, value);
+}
 bool Ros1Params::Get(const std::string &name, double &value) const {
     return GetValue(name, value);
 }

@@ -49,7 +49,9 @@ int main(int argc, char **argv) {
         std::signal(SIGTERM, OnSignal);
         ros2::Ros2Node node(args, ros_node::ReadNodeSettings(params), use_sim_time);
         while (!g_stop) {
-            struct timespec pause{0, 50000000};
+            struct timespec pause {
+                0, 50000000
+            };
             nanosleep(&pause, nullptr);
         }
         node.Shutdown();

@@ -13,9 +13,8 @@ namespace {
 using ros_node::CloudTopic;
 using ros_node::OdometryTopic;
 
-std::unique_ptr<Writer> MakeWriter(Participant &participant, const RosArgs &args,
-                                   const char *topic, const dds_topic_descriptor_t &type,
-                                   QosProfile profile) {
+std::unique_ptr<Writer> MakeWriter(Participant &participant, const RosArgs &args, const char *topic,
+                                   const dds_topic_descriptor_t &type, QosProfile profile) {
     return std::make_unique<Writer>(participant, Remapped(args, topic), type, profile);
 }
 
@@ -30,13 +29,14 @@ Ros2Node::Ros2Node(const RosArgs &args, ros_node::NodeSettings settings, bool us
     tf_static_ = MakeWriter(participant_, args, "/tf_static", tf2_msgs_msg_dds__TFMessage__desc,
                             QosProfile::kTransientLocal);
     if (settings.front_end.run_mapper) {
-        map_odom_ = MakeWriter(participant_, args, "/dorado/map_odom", odometry, QosProfile::kDefault);
+        map_odom_ =
+            MakeWriter(participant_, args, "/dorado/map_odom", odometry, QosProfile::kDefault);
         smoothed_odom_ =
             MakeWriter(participant_, args, "/dorado/smoothed_odom", odometry, QosProfile::kDefault);
         static_points_ =
             MakeWriter(participant_, args, "/dorado/static_points", cloud, QosProfile::kSensorData);
-        dynamic_points_ =
-            MakeWriter(participant_, args, "/dorado/dynamic_points", cloud, QosProfile::kSensorData);
+        dynamic_points_ = MakeWriter(participant_, args, "/dorado/dynamic_points", cloud,
+                                     QosProfile::kSensorData);
         local_map_ =
             MakeWriter(participant_, args, "/dorado/local_map", cloud, QosProfile::kTransientLocal);
     }
@@ -150,18 +150,24 @@ void Ros2Node::Shutdown() {
 
 const Writer &Ros2Node::WriterOf(OdometryTopic topic) const {
     switch (topic) {
-        case OdometryTopic::kMapOdom: return *map_odom_;
-        case OdometryTopic::kSmoothedOdom: return *smoothed_odom_;
-        case OdometryTopic::kDopplerOdom: break;
+        case OdometryTopic::kMapOdom:
+            return *map_odom_;
+        case OdometryTopic::kSmoothedOdom:
+            return *smoothed_odom_;
+        case OdometryTopic::kDopplerOdom:
+            break;
     }
     return *odom_;
 }
 
 const Writer &Ros2Node::WriterOf(CloudTopic topic) const {
     switch (topic) {
-        case CloudTopic::kStaticPoints: return *static_points_;
-        case CloudTopic::kDynamicPoints: return *dynamic_points_;
-        case CloudTopic::kLocalMap: break;
+        case CloudTopic::kStaticPoints:
+            return *static_points_;
+        case CloudTopic::kDynamicPoints:
+            return *dynamic_points_;
+        case CloudTopic::kLocalMap:
+            break;
     }
     return *local_map_;
 }
@@ -192,9 +198,8 @@ void Ros2Node::Publish(CloudTopic topic, const ros_node::CloudOutput &cloud) {
 // rcutils' console format: [LEVEL] [seconds] text.
 void Ros2Node::Log(ros_node::LogLevel level, const std::string &text) {
     static const char *const kLevels[] = {"INFO", "WARN", "ERROR"};
-    const double now = std::chrono::duration<double>(
-                           std::chrono::system_clock::now().time_since_epoch())
-                           .count();
+    const double now =
+        std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
     std::lock_guard<std::mutex> lock(log_mutex_);
     std::fprintf(stderr, "[%s] [%.9f] %s\n", kLevels[static_cast<int>(level)], now, text.c_str());
 }

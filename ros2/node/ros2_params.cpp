@@ -8,7 +8,8 @@
 namespace dorado::ros2 {
 namespace {
 
-[[noreturn]] void Fail(const std::string &name, const std::string &origin, const std::string &what) {
+[[noreturn]] void Fail(const std::string &name, const std::string &origin,
+                       const std::string &what) {
     throw io::ConfigError("parameter '" + name + "' (" + origin + "): " + what);
 }
 
@@ -35,8 +36,8 @@ Ros2Params::Ros2Params(const RosArgs &args) {
             found = true;
         }
         if (!found)
-            throw io::ConfigError(path + ": no section for node '" + args.node_name +
-                                  "' ('" + args.node_name + ":' or '/**:' with ros__parameters)");
+            throw io::ConfigError(path + ": no section for node '" + args.node_name + "' ('" +
+                                  args.node_name + ":' or '/**:' with ros__parameters)");
     }
     for (const auto &[name, text] : args.params) {
         try {

@@ -9,8 +9,7 @@ namespace dorado::ros2 {
 namespace {
 
 dds_entity_t Check(dds_entity_t handle, const std::string &what) {
-    if (handle < 0)
-        throw DdsError(what + ": " + dds_strretcode(handle) + " (Cyclone DDS)");
+    if (handle < 0) throw DdsError(what + ": " + dds_strretcode(handle) + " (Cyclone DDS)");
     return handle;
 }
 
@@ -31,7 +30,8 @@ uint32_t DomainFromEnvironment() {
 std::string DdsTopicName(const std::string &ros_name) {
     const std::string name = !ros_name.empty() && ros_name[0] == '/' ? ros_name : "/" + ros_name;
     bool ok = name.size() > 1 && name.back() != '/' && name.find("//") == std::string::npos;
-    for (const char c : name) ok &= std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '/';
+    for (const char c : name)
+        ok &= std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '/';
     if (!ok)
         throw std::invalid_argument("'" + ros_name +
                                     "' is not a ROS 2 topic name (tokens of [A-Za-z0-9_] "
@@ -44,14 +44,23 @@ QosPtr MakeQos(QosProfile profile, int32_t depth) {
     bool reliable = true, transient_local = false;
     int32_t keep = 10;
     switch (profile) {
-        case QosProfile::kSensorData: reliable = false, keep = 5; break;
-        case QosProfile::kDefault: break;
-        case QosProfile::kTf: keep = 100; break;
-        case QosProfile::kTransientLocal: transient_local = true, keep = 1; break;
-        case QosProfile::kClock: reliable = false, keep = 1; break;
+        case QosProfile::kSensorData:
+            reliable = false, keep = 5;
+            break;
+        case QosProfile::kDefault:
+            break;
+        case QosProfile::kTf:
+            keep = 100;
+            break;
+        case QosProfile::kTransientLocal:
+            transient_local = true, keep = 1;
+            break;
+        case QosProfile::kClock:
+            reliable = false, keep = 1;
+            break;
     }
-    dds_qset_reliability(qos.get(), reliable ? DDS_RELIABILITY_RELIABLE : DDS_RELIABILITY_BEST_EFFORT,
-                         DDS_SECS(1));
+    dds_qset_reliability(
+        qos.get(), reliable ? DDS_RELIABILITY_RELIABLE : DDS_RELIABILITY_BEST_EFFORT, DDS_SECS(1));
     dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, depth > 0 ? depth : keep);
     dds_qset_durability(qos.get(),
                         transient_local ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
@@ -94,9 +103,9 @@ Writer::Writer(Participant &participant, const std::string &ros_name,
                const dds_topic_descriptor_t &type, QosProfile profile, int32_t depth)
     : ros_name_(ros_name) {
     const QosPtr qos = MakeQos(profile, depth);
-    writer_ = Entity(Check(dds_create_writer(participant.get(), participant.Topic(ros_name, type),
-                                             qos.get(), nullptr),
-                           "cannot create a writer of " + ros_name));
+    writer_ = Entity(Check(
+        dds_create_writer(participant.get(), participant.Topic(ros_name, type), qos.get(), nullptr),
+        "cannot create a writer of " + ros_name));
 }
 
 void Writer::Write(const void *sample) const {

@@ -105,7 +105,8 @@ ReplayReport Replay(io::RecordedMessages &messages, Participant &participant,
         }
         const auto type = types.find(m.topic);
         if (type == types.end()) continue;
-        if (first_ns < 0) first_ns = m.log_time_ns + static_cast<int64_t>(options.start_offset_s * 1e9);
+        if (first_ns < 0)
+            first_ns = m.log_time_ns + static_cast<int64_t>(options.start_offset_s * 1e9);
         if (m.log_time_ns < first_ns) continue;
         const double since_s = static_cast<double>(m.log_time_ns - first_ns) * 1e-9;
         if (options.playback_duration_s > 0.0 && since_s > options.playback_duration_s) break;
@@ -114,9 +115,9 @@ ReplayReport Replay(io::RecordedMessages &messages, Participant &participant,
             start + std::chrono::duration_cast<Steady::duration>(
                         std::chrono::duration<double>(since_s / options.rate));
         std::this_thread::sleep_until(due);
-        report.max_behind_ms = std::max(
-            report.max_behind_ms,
-            std::chrono::duration<double, std::milli>(Steady::now() - due).count());
+        report.max_behind_ms =
+            std::max(report.max_behind_ms,
+                     std::chrono::duration<double, std::milli>(Steady::now() - due).count());
         if (clock) {
             const rosgraph_msgs_msg_dds__Clock_ now{TimeOf(m.log_time_ns)};
             clock->Write(&now);
@@ -135,8 +136,7 @@ ReplayReport Replay(io::RecordedMessages &messages, Participant &participant,
             progress(count);
         }
     }
-    if (count > 0)
-        report.duration_s = std::chrono::duration<double>(Steady::now() - start).count();
+    if (count > 0) report.duration_s = std::chrono::duration<double>(Steady::now() - start).count();
     for (const auto &[topic, writer] : writers)
         report.acknowledged &= writer->WaitForAcks(std::chrono::seconds(10));
     return report;

@@ -64,8 +64,7 @@ geometry_msgs_msg_dds__TransformStamped_ TransformOf(const ros_node::TransformOu
     msg.header = HeaderOf(transform.stamp_ns, transform.parent_frame);
     msg.child_frame_id = Borrow(transform.child_frame);
     msg.transform.translation = VectorOf(transform.T_parent_child.translation());
-    msg.transform.rotation =
-        QuaternionOf(Eigen::Quaterniond(transform.T_parent_child.linear()));
+    msg.transform.rotation = QuaternionOf(Eigen::Quaterniond(transform.T_parent_child.linear()));
     return msg;
 }
 

@@ -191,5 +191,17 @@ def run_node_on_bag(graph, recorder, dorado_ros, params, bag, rate, name, topics
     return code, err
 
 
+def misspelled_doppler_field(dataset, out_path):
+    """A copy of the dataset YAML whose field map names a Doppler field no message has."""
+    with open(dataset) as f:
+        text = f.read()
+    wrong = text.replace("doppler: doppler", "doppler: dopler")
+    if wrong == text:
+        raise AssertionError(f"{dataset} names no doppler field")
+    with open(out_path, "w") as f:
+        f.write(wrong)
+    return out_path
+
+
 def work_dir(prefix):
     return tempfile.mkdtemp(prefix=prefix)

@@ -4,7 +4,6 @@ that decodes with the rosbag2 reader's codec), each on a ROS_DOMAIN_ID of the ca
 process started here is stopped (SIGINT, then SIGKILL) by Dds.close(), also on failure."""
 import json
 import os
-import signal
 import struct
 import subprocess
 import sys
@@ -13,6 +12,8 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "io"))
 sys.path.insert(0, os.path.join(HERE, "..", "ros"))
+import ros_harness  # noqa: E402  (processes stopped and waited for, TUM files read as for ROS1)
+from ros_harness import read_tum  # noqa: E402
 
 RADAR = "/hugin_raf_1/radar_data"
 IMU = "/imu/data"
@@ -35,9 +36,6 @@ def missing():
     return None
 
 
-def read_tum(path):
-    import ros_harness
-    return ros_harness.read_tum(path)
 
 
 def stamp_of(cdr):
@@ -129,26 +127,9 @@ class Dds:
         self.procs.append(p)
         return p
 
-    @staticmethod
-    def stop(p, timeout_s=30):
-        """SIGINT (a clean exit: the node publishes what its smoother holds), then SIGKILL."""
-        if p.poll() is None:
-            os.killpg(p.pid, signal.SIGINT)
-            try:
-                p.wait(timeout_s)
-            except subprocess.TimeoutExpired:
-                os.killpg(p.pid, signal.SIGKILL)
-                p.wait()
-        return p.returncode
-
-    @staticmethod
-    def wait_for(predicate, timeout_s, what):
-        end = time.time() + timeout_s
-        while time.time() < end:
-            if predicate():
-                return
-            time.sleep(0.05)
-        raise AssertionError(what)
+    # SIGINT (a clean exit: the node publishes what its smoother holds), then SIGKILL.
+    stop = staticmethod(ros_harness.Graph.stop)
+    wait_for = staticmethod(ros_harness.Graph.wait_for)
 
     @staticmethod
     def text(path):

@@ -23,7 +23,9 @@
 namespace {
 
 volatile std::sig_atomic_t g_stop = 0;
-void OnSignal(int) { g_stop = 1; }
+void OnSignal(int) {
+    g_stop = 1;
+}
 
 std::mutex g_mutex;
 
@@ -42,11 +44,14 @@ void RecordPublications(dds_entity_t reader, FILE *out, std::set<std::string> &s
         dds_qget_reliability(p->qos, &reliability, &blocking);
         dds_qget_durability(p->qos, &durability);
         dds_qget_history(p->qos, &history, &depth);
-        const std::string line = std::string(p->topic_name) + " " + p->type_name + " " +
-                                 (reliability == DDS_RELIABILITY_RELIABLE ? "reliable" : "best_effort") + " " +
-                                 (durability == DDS_DURABILITY_TRANSIENT_LOCAL ? "transient_local" : durability == DDS_DURABILITY_VOLATILE ? "volatile" : "other") + " " +
-                                 (history == DDS_HISTORY_KEEP_LAST ? "keep_last" : "keep_all") + " " +
-                                 std::to_string(depth);
+        const std::string line =
+            std::string(p->topic_name) + " " + p->type_name + " " +
+            (reliability == DDS_RELIABILITY_RELIABLE ? "reliable" : "best_effort") + " " +
+            (durability == DDS_DURABILITY_TRANSIENT_LOCAL ? "transient_local"
+             : durability == DDS_DURABILITY_VOLATILE      ? "volatile"
+                                                          : "other") +
+            " " + (history == DDS_HISTORY_KEEP_LAST ? "keep_last" : "keep_all") + " " +
+            std::to_string(depth);
         if (seen.insert(line).second) {
             std::fprintf(out, "%s\n", line.c_str());
             std::fflush(out);
@@ -82,7 +87,8 @@ int main(int argc, char **argv) {
                 100000, [topic, odometry](std::vector<uint8_t> bytes) {
                     const io::CdrPose pose = io::DecodeOdometryCdr(bytes);
                     std::lock_guard<std::mutex> lock(g_mutex);
-                    std::fprintf(odometry, "%s %lld %s %s %.12g %.12g %.12g %.12g %.12g %.12g %.12g",
+                    std::fprintf(odometry,
+                                 "%s %lld %s %s %.12g %.12g %.12g %.12g %.12g %.12g %.12g",
                                  topic.c_str(), static_cast<long long>(pose.header.stamp_ns),
                                  pose.header.frame_id.c_str(), pose.child_frame_id.c_str(),
                                  pose.position.x(), pose.position.y(), pose.position.z(),
@@ -93,14 +99,16 @@ int main(int argc, char **argv) {
                     std::fflush(odometry);
                 }));
         }
-        const dds_entity_t builtin =
-            dds_create_reader(participant.get(), DDS_BUILTIN_TOPIC_DCPSPUBLICATION, nullptr, nullptr);
+        const dds_entity_t builtin = dds_create_reader(
+            participant.get(), DDS_BUILTIN_TOPIC_DCPSPUBLICATION, nullptr, nullptr);
         std::set<std::string> seen;
         std::printf("ready\n");
         std::fflush(stdout);
         while (!g_stop) {
             RecordPublications(builtin, publications, seen);
-            struct timespec pause{0, 20000000};
+            struct timespec pause {
+                0, 20000000
+            };
             nanosleep(&pause, nullptr);
         }
         RecordPublications(builtin, publications, seen);

@@ -6,10 +6,10 @@
 // of Cyclone's serializer with the same bytes after `dorado replay` decodes and republishes them.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
-#include <unistd.h>
 #include <thread>
 
 #include "dorado/io/cdr_messages.hpp"
@@ -177,7 +177,8 @@ TEST(Ros2Cdr, OdometryTheNodeWritesDecodesWithTheRosbag2Codec) {
     EXPECT_EQ(pose.header.frame_id, "map");
     EXPECT_EQ(pose.child_frame_id, "base_link");
     EXPECT_EQ(pose.position, odometry.T_frame_child.translation());
-    EXPECT_LT((pose.orientation.toRotationMatrix() - odometry.T_frame_child.linear()).norm(), 1e-15);
+    EXPECT_LT((pose.orientation.toRotationMatrix() - odometry.T_frame_child.linear()).norm(),
+              1e-15);
     for (int i = 0; i < 36; ++i) EXPECT_EQ(pose.covariance[i], 0.01 * i);
 }
 
@@ -195,8 +196,8 @@ void ExpectSameCdr(const std::vector<uint8_t> &recorded, const std::vector<uint8
 }
 
 TEST(Ros2Cdr, RecordedMessagesRepublishWithTheirBytes) {
-    const std::filesystem::path dir =
-        std::filesystem::path(::testing::TempDir()) / ("dorado_ros2_cdr_" + std::to_string(getpid()));
+    const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) /
+                                      ("dorado_ros2_cdr_" + std::to_string(getpid()));
     const std::string cmd = std::string(DORADO_SYSTEM_PYTHON) + " " + DORADO_SOURCE_DIR +
                             "/tests/io/make_ros2_bags.py fixtures " + dir.string();
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;

@@ -3,9 +3,9 @@
 // `<node>:` / `/**:` + `ros__parameters:`, and the shared NodeSettings read from it.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 #include "dorado/io/config_error.hpp"
 #include "node_settings.hpp"
@@ -28,9 +28,9 @@ std::string WriteFile(const std::string &name, const std::string &text) {
 }
 
 TEST(Ros2Args, RosArgsAsRclReadsThem) {
-    const RosArgs args = Parse({"--ros-args", "--params-file", "a.yaml", "-r",
-                                "/hugin_raf_1/radar_data:=/radar", "--remap", "__node:=radar_odom",
-                                "-p", "mapper:=true", "--"});
+    const RosArgs args =
+        Parse({"--ros-args", "--params-file", "a.yaml", "-r", "/hugin_raf_1/radar_data:=/radar",
+               "--remap", "__node:=radar_odom", "-p", "mapper:=true", "--"});
     EXPECT_EQ(args.node_name, "radar_odom");
     EXPECT_EQ(args.params_files, std::vector<std::string>{"a.yaml"});
     ASSERT_EQ(args.params.size(), 1u);
@@ -82,8 +82,9 @@ TEST(Ros2Params, WrongTypesAndUnknownNamesAreNamed) {
         (void)ros_node::ReadNodeSettings(params);
         ADD_FAILURE() << "queue_size: many was read";
     } catch (const io::ConfigError &e) {
-        EXPECT_NE(std::string(e.what()).find("parameter 'queue_size' (" + file + "): must be an integer"),
-                  std::string::npos)
+        EXPECT_NE(
+            std::string(e.what()).find("parameter 'queue_size' (" + file + "): must be an integer"),
+            std::string::npos)
             << e.what();
     }
     const auto unknown = params.Unknown(ros_node::ParameterNames());
@@ -98,7 +99,8 @@ TEST(Ros2Params, AFileWithoutTheNodesSectionIsRefused) {
         const Ros2Params params(Parse({"--ros-args", "--params-file", file.c_str()}));
         ADD_FAILURE() << "read";
     } catch (const io::ConfigError &e) {
-        EXPECT_NE(std::string(e.what()).find("no section for node 'dorado_ros2'"), std::string::npos)
+        EXPECT_NE(std::string(e.what()).find("no section for node 'dorado_ros2'"),
+                  std::string::npos)
             << e.what();
     }
     EXPECT_THROW(Ros2Params(Parse({"--ros-args", "--params-file", "/nonexistent.yaml"})),

@@ -105,8 +105,8 @@ class RawReader {
     using OnMessage = std::function<void(std::vector<uint8_t> bytes)>;
     using OnPublishers = std::function<void(int count)>;
     RawReader(Participant &participant, const std::string &ros_name,
-              const dds_topic_descriptor_t &type, QosProfile profile, int32_t depth, OnMessage on_message,
-              OnPublishers on_publishers = {});
+              const dds_topic_descriptor_t &type, QosProfile profile, int32_t depth,
+              OnMessage on_message, OnPublishers on_publishers = {});
     ~RawReader();
     RawReader(const RawReader &) = delete;
     RawReader &operator=(const RawReader &) = delete;

@@ -37,9 +37,9 @@ struct ReplayReport {
     std::vector<std::string> skipped_topics;
     /// Messages that could not be read (a damaged part of the file, undecodable CDR).
     std::vector<std::string> problems;
-    double duration_s = 0.0;      ///< wall time from the first message to the last
-    double max_behind_ms = 0.0;   ///< how late the worst message left against its schedule
-    bool acknowledged = true;     ///< every reliable subscriber acknowledged everything
+    double duration_s = 0.0;     ///< wall time from the first message to the last
+    double max_behind_ms = 0.0;  ///< how late the worst message left against its schedule
+    bool acknowledged = true;    ///< every reliable subscriber acknowledged everything
 };
 
 /// The types replay publishes.
