@@ -48,6 +48,7 @@ LiveCounts LivePipeline::counts() const {
 }
 
 void LivePipeline::OnCloud(LiveCloud cloud) {
+    if (cloud.stamp_ns == 0) cloud.stamp_ns = sink_.NowNs();  // unstamped: stamped at arrival
     std::lock_guard<std::mutex> lock(mutex_);
     if (stop_) return;
     ++counts_.received;
@@ -119,7 +120,7 @@ void LivePipeline::Drop(const std::string &cause, const std::string &detail) {
 }
 
 void LivePipeline::Handle(const LiveCloud &cloud) {
-    const int64_t stamp_ns = cloud.stamp_ns == 0 ? sink_.NowNs() : cloud.stamp_ns;
+    const int64_t stamp_ns = cloud.stamp_ns;
     const StampVerdict verdict = stamps_.Check(stamp_ns);
     if (verdict != StampVerdict::kAccept) {
         std::lock_guard<std::mutex> lock(mutex_);

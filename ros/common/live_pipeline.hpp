@@ -30,7 +30,7 @@ namespace dorado::ros_node {
 /// One radar message as it arrived: its header and a view of its point bytes, which `owner` keeps
 /// alive (the ROS message, or the received CDR bytes).
 struct LiveCloud {
-    int64_t stamp_ns = 0;  ///< 0: the driver left it empty (the node's clock stands in)
+    int64_t stamp_ns = 0;  ///< 0: the driver left it empty (the node's clock at arrival stands in)
     std::string frame_id;
     io::CloudBufferView view;
     std::shared_ptr<const void> owner;
@@ -48,7 +48,8 @@ class LivePipeline {
     LivePipeline(NodeSettings settings, LiveSink &sink, std::string node_name);
     ~LivePipeline();
 
-    /// A scan arrived (any thread): queued, or the oldest waiting one dropped as late.
+    /// A scan arrived (any thread): stamped by the node's clock if unstamped, queued, or the
+    /// oldest waiting one dropped as late.
     void OnCloud(LiveCloud cloud);
     /// A radar message that could not even be read (its CDR bytes): counted as received and
     /// dropped.

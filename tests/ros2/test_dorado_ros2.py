@@ -183,6 +183,25 @@ class DoradoRos2(unittest.TestCase):
         self.assertEqual(run.summary["published"], run.summary["received"])
         self.assertGreater(run.summary["published"], self.scans // 2)
 
+    def test_use_sim_time_stamps_unstamped_scans_from_clock(self):
+        # Scans stamped 0 by their driver: the node's clock (ROS time, /clock from replay --clock
+        # at each message's log time) stands in.
+        start = self.messages[0][2]
+        zero = [(t, type_name, log, h.with_stamp(data, 0) if t == RADAR else data)
+                for t, type_name, log, data in self.messages if log - start < 2e9]
+        log_times = {log for t, _, log, _ in zero if t == RADAR}
+        path = os.path.join(self.dir, "unstamped.db3")
+        h.write_db3(path, zero)
+        run = self.run_node("sim_time", 62, path, 2, replays=(("--clock",),),
+                            expect=len(log_times), ros_args=("-p", "use_sim_time:=true"),
+                            queue_size=1000)
+        self.assertEqual(run.code, 0, run.err)
+        self.assertIn("; use_sim_time", run.err)
+        stamps = {stamp for t, stamp, _ in run.odometry if t == "/doppler_odom"}
+        print(f"use_sim_time: {len(stamps)} scans stamped from /clock, "
+              f"{len(stamps & log_times)} at their recorded log time")
+        self.assertEqual(stamps, log_times)
+
     def test_ros_domain_id_is_honoured_and_topics_remapped(self):
         other = self.dds.start_node("other_domain", 68, config=self.dataset)
         # The radar under another name, on both sides (replay --remap, the node's -r).
