@@ -16,12 +16,18 @@ namespace {
 
 using eprosima::fastcdr::Cdr;
 
-CdrHeader ReadHeader(Cdr &cdr) {
+/// builtin_interfaces/msg/Time: int32 sec, uint32 nanosec.
+int64_t ReadTime(Cdr &cdr) {
     int32_t sec = 0;
     uint32_t nanosec = 0;
+    cdr.deserialize(sec).deserialize(nanosec);
+    return static_cast<int64_t>(sec) * 1000000000LL + static_cast<int64_t>(nanosec);
+}
+
+CdrHeader ReadHeader(Cdr &cdr) {
     CdrHeader header;
-    cdr.deserialize(sec).deserialize(nanosec).deserialize(header.frame_id);
-    header.stamp_ns = static_cast<int64_t>(sec) * 1000000000LL + static_cast<int64_t>(nanosec);
+    header.stamp_ns = ReadTime(cdr);
+    cdr.deserialize(header.frame_id);
     return header;
 }
 
@@ -120,6 +126,15 @@ CdrPose DecodePoseStampedCdr(const std::vector<uint8_t> &bytes) {
         out.header = ReadHeader(cdr);
         ReadPose(cdr, out);
     });
+}
+
+int64_t DecodeClockCdr(const std::vector<uint8_t> &bytes) {
+    struct Clock {
+        int64_t ns = 0;
+    };
+    return Decode<Clock>(bytes, "rosgraph_msgs/msg/Clock",
+                         [](Cdr &cdr, Clock &out) { out.ns = ReadTime(cdr); })
+        .ns;
 }
 
 }  // namespace dorado::io

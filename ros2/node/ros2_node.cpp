@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 
 #include "dorado/io/cdr_messages.hpp"
 #include "dorado/ros2/ros2_convert.hpp"
@@ -50,13 +49,11 @@ Ros2Node::Ros2Node(const RosArgs &args, ros_node::NodeSettings settings, bool us
         clock_reader_ = std::make_unique<RawReader>(
             participant_, Remapped(args, "/clock"), rosgraph_msgs_msg_dds__Clock__desc,
             QosProfile::kClock, 1, [this](std::vector<uint8_t> bytes) {
-                // builtin_interfaces/Time after the encapsulation: int32 sec, uint32 nanosec.
-                if (bytes.size() < 12) return;
-                int32_t sec;
-                uint32_t nanosec;
-                std::memcpy(&sec, bytes.data() + 4, 4);
-                std::memcpy(&nanosec, bytes.data() + 8, 4);
-                clock_ns_ = static_cast<int64_t>(sec) * 1000000000LL + nanosec;
+                try {
+                    clock_ns_ = io::DecodeClockCdr(bytes);
+                } catch (const io::DecodeError &e) {
+                    Log(ros_node::LogLevel::kError, name_ + ": /clock: " + e.what());
+                }
             });
     if (s.needs_imu)
         imu_reader_ = std::make_unique<RawReader>(

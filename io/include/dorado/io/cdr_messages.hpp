@@ -52,5 +52,7 @@ struct CdrPose {
 [[nodiscard]] CdrImu DecodeImuCdr(const std::vector<uint8_t> &bytes);
 [[nodiscard]] CdrPose DecodeOdometryCdr(const std::vector<uint8_t> &bytes);
 [[nodiscard]] CdrPose DecodePoseStampedCdr(const std::vector<uint8_t> &bytes);
+/// rosgraph_msgs/msg/Clock: its time [ns].
+[[nodiscard]] int64_t DecodeClockCdr(const std::vector<uint8_t> &bytes);
 
 }  // namespace dorado::io
