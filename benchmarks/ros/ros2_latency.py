@@ -33,7 +33,9 @@ def main(build, rate, seconds):
                   f"{s['dropped'] or 'none'}; latency scan arrival -> "
                   f"{'/dorado/map_odom' if mapper else '/doppler_odom'} median {lat['median']:.2f} "
                   f"ms, p95 {lat['p95']:.2f} ms; the front end's own time median "
-                  f"{s['front_end_ms']['median']:.2f} ms")
+                  f"{s['front_end_ms']['median']:.2f} ms; the node's CPU time per scan median "
+                  f"{s['worker_cpu_ms']['median']:.2f} ms, p95 {s['worker_cpu_ms']['p95']:.2f} ms "
+                  f"(load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores)")
     finally:
         dds.close()
         shutil.rmtree(work, ignore_errors=True)

@@ -94,6 +94,7 @@ class LivePipeline {
     FaultLog warnings_;  ///< scans used despite a fault (a gap, a prior substitution), lost inputs
     LatencyStats latency_;         ///< arrival -> published
     LatencyStats front_end_time_;  ///< the front end's own time per scan (Process)
+    LatencyStats worker_cpu_;      ///< the worker's CPU time per published scan [ms]
     PoseCovariance pose_covariance_;
     Eigen::Isometry3d T_world_base_initial_;
 

@@ -139,6 +139,9 @@ ReplayReport Replay(io::RecordedMessages &messages, Participant &participant,
     if (count > 0) report.duration_s = std::chrono::duration<double>(Steady::now() - start).count();
     for (const auto &[topic, writer] : writers)
         report.acknowledged &= writer->WaitForAcks(std::chrono::seconds(10));
+    // Best-effort subscribers (a node's sensor-data QoS) acknowledge nothing: without a moment
+    // before the writers go, the last message can be lost with them.
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
     return report;
 }
 
