@@ -16,6 +16,7 @@
 #include "dorado/odometry/calibration.hpp"
 #include "dorado/odometry/ego_velocity.hpp"
 #include "dorado/odometry/inertial_check.hpp"
+#include "one_of.hpp"
 #include "progress.hpp"
 #include "scan_loop.hpp"
 
@@ -237,7 +238,7 @@ void RegisterCalibrateCommand(CLI::App &app) {
         "against the accelerometer). Writes a YAML snippet for the dataset description.");
     cmd->add_option("STEP", opt->step, "rotation | roll | sx | doppler-sign")
         ->required()
-        ->check(CLI::IsMember({"rotation", "roll", "sx", "doppler-sign"}));
+        ->check(OneOf({"rotation", "roll", "sx", "doppler-sign"}));
     cmd->add_option(
            "DATASET", opt->dataset,
            "dataset description (.yaml), or a recording (.bag, .db3, .mcap, rosbag2 folder)")

@@ -313,7 +313,13 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path, const std::string 
     if (has_radars) ReadRadars(root, in, yaml_path, config.path_base_dir, config);
     ApplyChoice(config, choice);  // over the paths as resolved
     CheckFields(in, config);
-    ApplyFormatLayout(config, in.Has("extrinsics.T_base_radar"));  // the data set's own radars
+    const bool mount_given = in.Has("extrinsics.T_base_radar");
+    ApplyFormatLayout(config, mount_given);  // the data set's own radars
+    config.mount_source = mount_given || has_radars ? MountSource::kGiven
+                          : config.reader == ReaderKind::kRadarScenes ||
+                                  config.reader == ReaderKind::kNuScenes
+                              ? MountSource::kDataSet
+                              : MountSource::kIdentityAssumed;
     return config;
 }
 
@@ -382,6 +388,7 @@ DatasetConfig ResolveDataset(const std::string &argument, const std::string &dat
         config.vehicle.base_height_m = mount.base_height_m;
         config.name = (path.has_filename() ? path : path.parent_path()).stem().string();
         config.reader = ReaderKind::kRosbag;
+        config.mount_source = MountSource::kHuginDefault;
         config.rosbag.path = argument;
         ApplyDatasetChoice(config, choice);  // refused: a recording has no scenes
         return config;
