@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "dataset_formats.hpp"
+#include "readers.hpp"
 #include "dorado/io/dataset_fields.hpp"
 #include "dorado/io/field_yaml.hpp"
 #include "dorado/io/yaml_section.hpp"
@@ -267,6 +268,59 @@ struct WrittenFields {
     }
 };
 
+// The native readers' root key and where --data points for them.
+const char *RootKey(const DatasetConfig &config) {
+    return config.reader == ReaderKind::kNuScenes      ? "nuscenes.dataroot"
+           : config.reader == ReaderKind::kRadarScenes ? "radarscenes.sequence_dir"
+                                                       : "";
+}
+
+// --data DIR for the data sets' own layouts is the release's root, whatever the description's
+// root key says: nuScenes' dataroot (the folder of v1.0-*/, sweeps/, can_bus/) and RadarScenes'
+// folder that holds data/sequence_N (or DIR/sequence_N itself), N from the description's
+// sequence_dir (--sequence then picks another beside it).
+void UseDataOptionAsRoot(DatasetConfig &config, const std::string &data_option) {
+    std::string resolved;
+    if (config.reader == ReaderKind::kNuScenes) {
+        resolved = config.nuscenes.dataroot = data_option;
+    } else if (config.reader == ReaderKind::kRadarScenes &&
+               !config.radarscenes.sequence_dir.empty()) {
+        const fs::path name = RadarScenesSequenceDir(config).filename();
+        const fs::path in_data = fs::path(data_option) / "data" / name,
+                       beside = fs::path(data_option) / name;
+        std::error_code ec;
+        resolved = (!fs::is_directory(in_data, ec) && fs::is_directory(beside, ec) ? beside
+                                                                                  : in_data)
+                       .string();
+        config.radarscenes.sequence_dir = resolved;
+    } else {
+        return;
+    }
+    for (DatasetInput &input : config.inputs)
+        if (input.key == RootKey(config)) input.path = resolved;
+}
+
+// For an error of a data set's own layout: the root key as written and resolved, and from where.
+std::string RootKeyHint(const DatasetConfig &config) {
+    const std::string key = RootKey(config);
+    for (const DatasetInput &input : config.inputs) {
+        if (input.key != key) continue;
+        const std::string base =
+            config.path_base == PathBase::kDataOption
+                ? "--data " + config.path_base_dir + " (the data set's root)"
+                : fs::path(input.written).is_absolute() ? std::string("an absolute path")
+                                                        : "a relative path " +
+                                                              DescribePathBase(config);
+        return " (key '" + key + "': written " + input.written + ", resolved " + input.path +
+               ", " + base + "; pass --data DIR with the data set's root: " +
+               (config.reader == ReaderKind::kNuScenes
+                    ? "the folder that holds " + config.nuscenes.version + "/ and sweeps/"
+                    : std::string("the folder that holds data/sequence_N")) +
+               ")";
+    }
+    return "";
+}
+
 }  // namespace
 
 DatasetConfig ForRadar(const DatasetConfig &config, std::size_t index) {
@@ -311,10 +365,15 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path, const std::string 
         if (path.key != "data_dir")
             config.inputs.push_back({path.key, path.written, path.resolved});
     if (has_radars) ReadRadars(root, in, yaml_path, config.path_base_dir, config);
+    if (!data_option.empty()) UseDataOptionAsRoot(config, data_option);
     ApplyChoice(config, choice);  // over the paths as resolved
     CheckFields(in, config);
     const bool mount_given = in.Has("extrinsics.T_base_radar");
-    ApplyFormatLayout(config, mount_given);  // the data set's own radars
+    try {
+        ApplyFormatLayout(config, mount_given);  // the data set's own radars
+    } catch (const ConfigError &e) {
+        throw ConfigError(std::string(e.what()) + RootKeyHint(config));
+    }
     config.mount_source = mount_given || has_radars ? MountSource::kGiven
                           : config.reader == ReaderKind::kRadarScenes ||
                                   config.reader == ReaderKind::kNuScenes
