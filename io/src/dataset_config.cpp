@@ -278,20 +278,31 @@ const char *RootKey(const DatasetConfig &config) {
 // --data DIR for the data sets' own layouts is the release's root, whatever the description's
 // root key says: nuScenes' dataroot (the folder of v1.0-*/, sweeps/, can_bus/) and RadarScenes'
 // folder that holds data/sequence_N (or DIR/sequence_N itself), N from the description's
-// sequence_dir (--sequence then picks another beside it).
+// sequence_dir (--sequence then picks another beside it). The key's relative path taken from DIR
+// is kept when only it holds the data.
 void UseDataOptionAsRoot(DatasetConfig &config, const std::string &data_option) {
+    std::error_code ec;
     std::string resolved;
     if (config.reader == ReaderKind::kNuScenes) {
+        const bool joined_holds = fs::is_directory(
+            fs::path(config.nuscenes.dataroot) / config.nuscenes.version, ec);
+        const bool root_holds =
+            fs::is_directory(fs::path(data_option) / config.nuscenes.version, ec);
+        if (joined_holds && !root_holds) return;
         resolved = config.nuscenes.dataroot = data_option;
     } else if (config.reader == ReaderKind::kRadarScenes &&
                !config.radarscenes.sequence_dir.empty()) {
         const fs::path name = RadarScenesSequenceDir(config).filename();
         const fs::path in_data = fs::path(data_option) / "data" / name,
                        beside = fs::path(data_option) / name;
-        std::error_code ec;
-        resolved = (!fs::is_directory(in_data, ec) && fs::is_directory(beside, ec) ? beside
-                                                                                  : in_data)
-                       .string();
+        if (fs::is_directory(in_data, ec))
+            resolved = in_data.string();
+        else if (fs::is_directory(beside, ec))
+            resolved = beside.string();
+        else if (fs::is_directory(config.radarscenes.sequence_dir, ec))
+            return;
+        else
+            resolved = in_data.string();
         config.radarscenes.sequence_dir = resolved;
     } else {
         return;
@@ -401,6 +412,15 @@ void RequireInputs(const DatasetConfig &config) {
         if (fs::exists(input.path, ec)) continue;
         const std::string where =
             config.config_path.empty() ? "the description" : config.config_path;
+        if (config.path_base == PathBase::kDataOption && input.key == RootKey(config))
+            throw ConfigError(where + ": key '" + input.key + "': " + input.path +
+                              ": no such file or folder (written " + input.written +
+                              "; --data " + config.path_base_dir +
+                              " is taken as the data set's root: give the folder that holds " +
+                              (config.reader == ReaderKind::kNuScenes
+                                   ? config.nuscenes.version + "/ and sweeps/"
+                                   : std::string("data/sequence_N")) +
+                              ")");
         if (fs::path(input.written).is_absolute())
             throw ConfigError(where + ": key '" + input.key + "': " + input.path +
                               ": no such file or folder (an absolute path: fix the key)");
