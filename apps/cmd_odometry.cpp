@@ -220,7 +220,8 @@ void RunOdometry(const OdometryOptions &opt) {
     }
     AddStreamCounts(loop, summary);
     const std::vector<std::string> implausible = plausibility.Problems(
-        loop.used(), fallbacks, "used a fallback twist", front_end.trajectory().PathLength());
+        loop.used(), fallbacks, "used a fallback twist",
+        method == odometry::OdometryMethod::kImu ? -1.0 : front_end.trajectory().PathLength());
     summary.update(PlausibilityRecord(implausible, plausibility, opt.accept_implausible));
     WriteSummary(opt.out, summary);
     std::fprintf(stderr,

@@ -57,7 +57,7 @@ std::vector<std::string> PlausibilityWatch::Problems(std::size_t scans_used, std
                            " scans " + fallback_what +
                            " (more than half: the fields, the mount or the settings do not fit "
                            "this recording)");
-    if (doppler_distance_m_ >= limits_.min_doppler_distance_m &&
+    if (path_length_m >= 0.0 && doppler_distance_m_ >= limits_.min_doppler_distance_m &&
         path_length_m < limits_.min_path_to_doppler_distance * doppler_distance_m_)
         problems.push_back("the path is " + Fixed(path_length_m, 1) +
                            " m long but the Doppler speed integrates to " +

@@ -43,7 +43,8 @@ class PlausibilityWatch {
     void AddSpeed(int64_t stamp_ns, bool valid, double speed_mps);
 
     /// One sentence per implausible finding (empty: plausible). @p fallback_what names what a
-    /// fallback is ("fell back to the prior").
+    /// fallback is ("fell back to the prior"); a negative @p path_length_m: a run that does not
+    /// translate (odometry --method imu), no path check.
     [[nodiscard]] std::vector<std::string> Problems(std::size_t scans_used, std::size_t fallbacks,
                                                     const std::string &fallback_what,
                                                     double path_length_m) const;
