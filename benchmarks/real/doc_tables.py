@@ -4,6 +4,8 @@
     doc_tables.py ti OUT_DIR                 the TI hand-held recording: odometry, map, loop closure
     doc_tables.py times OUT_DIR NAME...      the map's time per sweep / scan of each run [ms]
     doc_tables.py bench RESULTS_MD SECTION   the table of one sequence of `dorado bench`'s results.md, verbatim
+    doc_tables.py bench_axis RESULTS_MD      results.md's rotation error by body axis (pooled), verbatim
+    doc_tables.py xsim RESULTS_MD            run_xsim.py's results.md: its tables and pooled line, verbatim
     doc_tables.py quote GENERATED PAGE...    copies GENERATED's tables into each PAGE's quoted blocks
 
 A generated table sits between `<!-- table NAME -->` and `<!-- end table -->`; a page quotes it between
@@ -68,6 +70,21 @@ def bench(results_md, section):
     sys.stdout.write(m.group(1))
 
 
+def bench_axis(results_md):
+    with open(results_md) as f:
+        text = f.read()
+    m = re.search(r"^Rotation error by body axis.*\n\n((?:\|.*\n)+)", text, re.M)
+    if not m:
+        sys.exit("%s: no rotation-by-axis table" % results_md)
+    sys.stdout.write(m.group(1))
+
+
+def xsim(results_md):
+    with open(results_md) as f:
+        text = f.read().strip()
+    sys.stdout.write(text + "\n")
+
+
 TABLE = re.compile(r"<!-- table (\S+) -->\n(.*?)<!-- end table -->\n", re.S)
 QUOTE = re.compile(r"(<!-- quoted from generated/(\S+): (\S+) -->\n)(.*?)(<!-- end quote -->)", re.S)
 
@@ -101,6 +118,10 @@ def main():
         times(args[0], args[1:])
     elif kind == "bench":
         bench(args[0], args[1])
+    elif kind == "bench_axis":
+        bench_axis(args[0])
+    elif kind == "xsim":
+        xsim(args[0])
     elif kind == "quote":
         quote(args[0], args[1:])
     else:
