@@ -325,13 +325,38 @@ double CalibrateSxStep(const CalibrateOptions &opt, const io::DatasetConfig &dat
         Refuse(opt, "the vehicle turned " + Fixed(turn_deg, 0) + " deg over the " +
                         std::to_string(v_s.size()) +
                         " moving scans; s_x needs a circle (at least 270 deg of turning)");
-    const auto c = odometry::CalibrateSx(v_s, yaw, lag);
+    auto c = odometry::CalibrateSx(v_s, yaw, lag);
+    // Batch means: the spread of the estimates of five consecutive parts of the drive, a second
+    // estimate of the sigma that slow errors (the ICR's wander, the gyro bias' drift) cannot hide
+    // from; the larger of the two is reported.
+    constexpr std::size_t kBatches = 5;
+    std::vector<double> batch;
+    for (std::size_t b = 0; b < kBatches; ++b) {
+        const std::size_t begin = b * v_s.size() / kBatches, end = (b + 1) * v_s.size() / kBatches;
+        const std::vector<Eigen::Vector3d> v(v_s.begin() + begin, v_s.begin() + end);
+        const std::vector<double> w(yaw.begin() + begin, yaw.begin() + end);
+        try {
+            batch.push_back(odometry::CalibrateSx(v, w).s_x_m);
+        } catch (const std::invalid_argument &) {  // a part without turning
+        }
+    }
+    double sigma_batches = 0.0;
+    if (batch.size() >= 3) {
+        double mean = 0.0, ss = 0.0;
+        for (const double x : batch) mean += x / batch.size();
+        for (const double x : batch) ss += (x - mean) * (x - mean);
+        sigma_batches = std::sqrt(ss / (batch.size() - 1) / batch.size());
+    }
+    const double sigma_residuals = c.sigma_m;
+    c.sigma_m = std::max(c.sigma_m, sigma_batches);
     if (c.sigma_m > opt.max_sigma_m)
         Refuse(opt, "s_x is unobservable on this drive: " + Fixed(c.s_x_m, 3) + " +- " +
                         Fixed(c.sigma_m, 3) + " m, sigma > --max-sigma " +
                         Fixed(opt.max_sigma_m, 3) + " m");
-    comment << "# dorado calibrate sx: s_x = " << c.s_x_m << " +- " << c.sigma_m << " m (1 sigma, "
-            << "errors correlated over " << lag << " scans) from " << c.inliers << " of "
+    comment << "# dorado calibrate sx: s_x = " << c.s_x_m << " +- " << c.sigma_m
+            << " m (1 sigma: the larger of " << sigma_residuals
+            << " m from the residuals, correlated over " << lag << " scans, and " << sigma_batches
+            << " m from " << batch.size() << " parts of the drive) from " << c.inliers << " of "
             << c.samples << " scans, " << Fixed(turn_deg, 0) << " deg of turning, residual RMS "
             << c.rms_residual_mps << " m/s, gyro bias "
             << (samples.gyro_at_rest.size() >= 5
