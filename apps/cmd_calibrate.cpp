@@ -288,8 +288,8 @@ Eigen::Matrix3d CalibrateRotationStep(const CalibrateOptions &opt, const Samples
         Refuse(opt, "the angle is unobservable on this drive: sigma " +
                         Fixed(RadToDeg(c.sigma_rad), 3) + " deg > --max-sigma-deg " +
                         Fixed(opt.max_sigma_deg, 3));
-    comment << "# dorado calibrate rotation: " << c.samples << " straight scans of " << used
-            << " (" << forward << " forward, " << backward << " backward), residual RMS "
+    comment << "# dorado calibrate rotation: " << c.samples << " straight scans of " << used << " ("
+            << forward << " forward, " << backward << " backward), residual RMS "
             << c.rms_residual_mps << " m/s, angle sigma " << RadToDeg(c.sigma_rad)
             << " deg (statistical " << RadToDeg(statistical_rad) << " deg, errors correlated over "
             << lag << " scans; from the radar's direction noise " << RadToDeg(bias_rad)

@@ -8,7 +8,6 @@
 #include <stdexcept>
 
 #include "commands.hpp"
-#include "one_of.hpp"
 #include "dorado/eval/absolute_trajectory_error.hpp"
 #include "dorado/eval/association.hpp"
 #include "dorado/eval/end_point_error.hpp"
@@ -16,6 +15,7 @@
 #include "dorado/eval/relative_pose_error.hpp"
 #include "dorado/io/atomic_file.hpp"
 #include "dorado/io/trajectory_io.hpp"
+#include "one_of.hpp"
 
 namespace dorado::apps {
 

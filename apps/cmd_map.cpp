@@ -65,8 +65,7 @@ void RunMap(const MapOptions &opt) {
     const io::DatasetConfig dataset =
         opt.radars == "all"
             ? io::ResolveDataset(opt.dataset, opt.data, opt.choice)
-            : SelectRadar(io::ResolveDataset(opt.dataset, opt.data, opt.choice), opt.radars,
-                          true);
+            : SelectRadar(io::ResolveDataset(opt.dataset, opt.data, opt.choice), opt.radars, true);
     const dorado::config::MapCommandConfig map_config =
         opt.config.empty() ? dorado::config::MapCommandConfig{}
                            : dorado::config::LoadMapConfig(opt.config);

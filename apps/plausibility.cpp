@@ -63,15 +63,15 @@ std::vector<std::string> PlausibilityWatch::Problems(std::size_t scans_used, std
                            " m long but the Doppler speed integrates to " +
                            Fixed(doppler_distance_m_, 1) +
                            " m (check the mount, extrinsics.T_base_radar, and the vehicle model)");
-    if (points_ > 0 && static_cast<double>(beyond_) >
-                           limits_.max_fraction_beyond * static_cast<double>(points_))
-        problems.push_back(
-            std::to_string(beyond_) + " of " + std::to_string(points_) + " points have a Doppler " +
-            "beyond +-" + Fixed(doppler_limit_mps_, 1) + " m/s (" +
-            (limit_is_radars_ ? std::string("radar.doppler_unambiguous_mps")
-                              : "faster than any vehicle radar measures") +
-            "; read " + Fixed(min_doppler_, 1) + ".." + Fixed(max_doppler_, 1) +
-            " m/s: check fields.doppler and folder.columns)");
+    if (points_ > 0 &&
+        static_cast<double>(beyond_) > limits_.max_fraction_beyond * static_cast<double>(points_))
+        problems.push_back(std::to_string(beyond_) + " of " + std::to_string(points_) +
+                           " points have a Doppler " + "beyond +-" + Fixed(doppler_limit_mps_, 1) +
+                           " m/s (" +
+                           (limit_is_radars_ ? std::string("radar.doppler_unambiguous_mps")
+                                             : "faster than any vehicle radar measures") +
+                           "; read " + Fixed(min_doppler_, 1) + ".." + Fixed(max_doppler_, 1) +
+                           " m/s: check fields.doppler and folder.columns)");
     return problems;
 }
 

@@ -38,10 +38,10 @@ void CheckFirstScans(const io::DatasetConfig &one, const std::string &radar,
         throw io::DatasetError(who + e.what() + kept);
     }
     if (bad == 0) return;  // no scan at all: the command says so
-    throw io::DatasetError(who + reader->source() + ": " +
-                           (bad == kFirstScans ? "the first " + std::to_string(bad)
-                                               : "all " + std::to_string(bad)) +
-                           " radar scans cannot be read; the first: " + first_problem + kept);
+    throw io::DatasetError(
+        who + reader->source() + ": " +
+        (bad == kFirstScans ? "the first " + std::to_string(bad) : "all " + std::to_string(bad)) +
+        " radar scans cannot be read; the first: " + first_problem + kept);
 }
 
 std::string MountText(const Eigen::Isometry3d &T) {
@@ -73,8 +73,8 @@ void StateAssumptions(const io::DatasetConfig &dataset, const std::string &arg,
                      "IMU, the radar mounted at %s (the paper's launch file). Another radar "
                      "needs a description saying its own (docs/datasets.md)\n",
                      command.c_str(), arg.c_str(), dataset.rosbag.radar_topic.c_str(), f.x.c_str(),
-                     f.y.c_str(), f.z.c_str(), f.doppler.c_str(), f.power.c_str(),
-                     f.doppler_sign, mount.c_str());
+                     f.y.c_str(), f.z.c_str(), f.doppler.c_str(), f.power.c_str(), f.doppler_sign,
+                     mount.c_str());
     } else if (dataset.mount_source == io::MountSource::kIdentityAssumed) {
         std::fprintf(stderr,
                      "%s: %s: no extrinsics.T_base_radar: the radar is assumed at the base origin, "

@@ -10,10 +10,10 @@
 #include <utility>
 
 #include "dataset_formats.hpp"
-#include "readers.hpp"
 #include "dorado/io/dataset_fields.hpp"
 #include "dorado/io/field_yaml.hpp"
 #include "dorado/io/yaml_section.hpp"
+#include "readers.hpp"
 
 namespace dorado::io {
 
@@ -284,8 +284,8 @@ void UseDataOptionAsRoot(DatasetConfig &config, const std::string &data_option) 
     std::error_code ec;
     std::string resolved;
     if (config.reader == ReaderKind::kNuScenes) {
-        const bool joined_holds = fs::is_directory(
-            fs::path(config.nuscenes.dataroot) / config.nuscenes.version, ec);
+        const bool joined_holds =
+            fs::is_directory(fs::path(config.nuscenes.dataroot) / config.nuscenes.version, ec);
         const bool root_holds =
             fs::is_directory(fs::path(data_option) / config.nuscenes.version, ec);
         if (joined_holds && !root_holds) return;
@@ -316,14 +316,13 @@ std::string RootKeyHint(const DatasetConfig &config) {
     const std::string key = RootKey(config);
     for (const DatasetInput &input : config.inputs) {
         if (input.key != key) continue;
-        const std::string base =
-            config.path_base == PathBase::kDataOption
-                ? "--data " + config.path_base_dir + " (the data set's root)"
-                : fs::path(input.written).is_absolute() ? std::string("an absolute path")
-                                                        : "a relative path " +
-                                                              DescribePathBase(config);
-        return " (key '" + key + "': written " + input.written + ", resolved " + input.path +
-               ", " + base + "; pass --data DIR with the data set's root: " +
+        const std::string base = config.path_base == PathBase::kDataOption
+                                     ? "--data " + config.path_base_dir + " (the data set's root)"
+                                 : fs::path(input.written).is_absolute()
+                                     ? std::string("an absolute path")
+                                     : "a relative path " + DescribePathBase(config);
+        return " (key '" + key + "': written " + input.written + ", resolved " + input.path + ", " +
+               base + "; pass --data DIR with the data set's root: " +
                (config.reader == ReaderKind::kNuScenes
                     ? "the folder that holds " + config.nuscenes.version + "/ and sweeps/"
                     : std::string("the folder that holds data/sequence_N")) +
@@ -385,11 +384,11 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path, const std::string 
     } catch (const ConfigError &e) {
         throw ConfigError(std::string(e.what()) + RootKeyHint(config));
     }
-    config.mount_source = mount_given || has_radars ? MountSource::kGiven
-                          : config.reader == ReaderKind::kRadarScenes ||
-                                  config.reader == ReaderKind::kNuScenes
-                              ? MountSource::kDataSet
-                              : MountSource::kIdentityAssumed;
+    config.mount_source =
+        mount_given || has_radars ? MountSource::kGiven
+        : config.reader == ReaderKind::kRadarScenes || config.reader == ReaderKind::kNuScenes
+            ? MountSource::kDataSet
+            : MountSource::kIdentityAssumed;
     return config;
 }
 
@@ -414,8 +413,8 @@ void RequireInputs(const DatasetConfig &config) {
             config.config_path.empty() ? "the description" : config.config_path;
         if (config.path_base == PathBase::kDataOption && input.key == RootKey(config))
             throw ConfigError(where + ": key '" + input.key + "': " + input.path +
-                              ": no such file or folder (written " + input.written +
-                              "; --data " + config.path_base_dir +
+                              ": no such file or folder (written " + input.written + "; --data " +
+                              config.path_base_dir +
                               " is taken as the data set's root: give the folder that holds " +
                               (config.reader == ReaderKind::kNuScenes
                                    ? config.nuscenes.version + "/ and sweeps/"

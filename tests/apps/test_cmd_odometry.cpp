@@ -172,9 +172,8 @@ TEST_F(CmdOdometry, CalibrateSxRecoversTheLeverArm) {
     EXPECT_NE(err.find("s_x needs a circle (at least 270 deg of turning)"), std::string::npos)
         << err;
     EXPECT_FALSE(fs::exists(out));
-    ASSERT_EQ(Dorado("calibrate sx " + Dataset() + " --no-drive-checks --out " + out.string(),
-                     &err),
-              0)
+    ASSERT_EQ(
+        Dorado("calibrate sx " + Dataset() + " --no-drive-checks --out " + out.string(), &err), 0)
         << err;
     std::ifstream in(out);
     std::stringstream ss;

@@ -19,6 +19,7 @@
 #include <string>
 
 #include "dorado/testing/run_command.hpp"
+#include "dorado/testing/scan_folder.hpp"
 
 namespace {
 
@@ -46,7 +47,7 @@ class FirstHour : public ::testing::Test {
         return dorado::testing::RunCommand(std::string(DORADO_BINARY) + " " + args, dir_);
     }
     static bool Has(const std::string &text, const std::string &part) {
-        return text.find(part) != std::string::npos;
+        return dorado::testing::Contains(text, part);
     }
     static fs::path Sim() { return dir_ / "sim"; }
     // The simulated description with one line replaced, beside it (its paths stay valid).
@@ -133,14 +134,14 @@ TEST_F(FirstHour, DopplerBeyondTheRadarsRangeExitsThreeUnlessAccepted) {
     ASSERT_EQ(Dorado("simulate --sequence car_urban --duration 3 --out " + urban.string()).code, 0);
     const std::string text = Slurp(urban / "dataset.yaml");
     const fs::path narrow = urban / "narrow.yaml";
-    std::ofstream(narrow) << std::regex_replace(text,
-                                                std::regex("doppler_unambiguous_mps: [0-9.]+"),
-                                                "doppler_unambiguous_mps: 4");
+    std::ofstream(narrow) << std::regex_replace(
+        text, std::regex("doppler_unambiguous_mps: [0-9.]+"), "doppler_unambiguous_mps: 4");
     const fs::path out = dir_ / "narrow";
     const Result r = Dorado("odometry " + narrow.string() + " --out " + out.string());
     EXPECT_EQ(r.code, 3) << r.err;
     EXPECT_TRUE(Has(r.err, "warning: implausible: ")) << r.err;
-    EXPECT_TRUE(Has(r.err, "have a Doppler beyond +-4.0 m/s (radar.doppler_unambiguous_mps")) << r.err;
+    EXPECT_TRUE(Has(r.err, "have a Doppler beyond +-4.0 m/s (radar.doppler_unambiguous_mps"))
+        << r.err;
     EXPECT_TRUE(Has(r.err, "--accept-implausible")) << r.err;
     EXPECT_TRUE(fs::exists(out / "trajectory.tum"));  // written first
     const Result accepted =
@@ -152,8 +153,8 @@ TEST_F(FirstHour, DopplerBeyondTheRadarsRangeExitsThreeUnlessAccepted) {
     // The plain description is plausible: exit 0 and an empty list.
     const Result plain = Dorado("odometry " + Sim().string() + " --out " + (dir_ / "p").string());
     EXPECT_EQ(plain.code, 0) << plain.err;
-    EXPECT_TRUE(nlohmann::json::parse(std::ifstream(dir_ / "p" / "summary.json"))["implausible"]
-                    .empty());
+    EXPECT_TRUE(
+        nlohmann::json::parse(std::ifstream(dir_ / "p" / "summary.json"))["implausible"].empty());
 }
 
 // The TI recording's radar-only map: 411 of 412 scans fell back, path 0 m, and it exited 0.
@@ -232,9 +233,8 @@ TEST_F(FirstHour, ChoicesOfACommandSuggestTheClosest) {
            "     T_base_radar: {translation_m: [3.6, 0, 0], rotation_rpy_deg: [0, 0, 0]}}\n"
            "  - {name: left, scans_dir: left, timestamps_file: left/times.txt,\n"
            "     T_base_radar: {translation_m: [3.6, 0.8, 0], rotation_rpy_deg: [0, 0, 90]}}\n";
-    const Result radars =
-        Dorado("map " + (folder / "two.yaml").string() + " --radars fron --out " +
-               (dir_ / "unused").string());
+    const Result radars = Dorado("map " + (folder / "two.yaml").string() + " --radars fron --out " +
+                                 (dir_ / "unused").string());
     EXPECT_EQ(radars.code, 1);
     EXPECT_TRUE(Has(radars.err, "did you mean 'front'?")) << radars.err;
     const Result all = Dorado("map " + (folder / "two.yaml").string() + " --radars al --out " +
@@ -268,7 +268,8 @@ TEST_F(FirstHour, BenchSaysWhatItKeptOnCtrlC) {
         std::string(DORADO_BINARY) + " bench " + config + " --no-plot --jobs 1 --out " +
         out.string() + " 2> " + err.string() + " & p=$!; i=0; while [ ! -d " + out.string() +
         "/logs ] && [ $i -lt 600 ]; do sleep 0.05; i=$((i+1)); done; sleep 0.3; kill -INT $p; "
-        "wait $p; echo $? > " + code.string();
+        "wait $p; echo $? > " +
+        code.string();
     ASSERT_EQ(std::system(("sh -c '" + script + "'").c_str()), 0);
     EXPECT_EQ(Slurp(code), "130\n") << Slurp(err);
     const std::string text = Slurp(err);

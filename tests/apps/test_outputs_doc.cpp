@@ -1,10 +1,10 @@
 // docs/outputs.md against the files the commands write: `dorado odometry`, `map` (one radar) and
 // `twist` (two radars) run on small data; every CSV's header is the page's `<!-- columns FILE -->`
-// block, every file written is named on the page; docs/attitude.md lists every status of scans.csv's
-// yaw_calibration and every ground reason of velocities.csv.
+// block, every file written is named on the page; docs/attitude.md lists every status of
+// scans.csv's yaw_calibration and every ground reason of velocities.csv.
 #include <gtest/gtest.h>
 
-#include <cstdio>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -15,6 +15,7 @@
 #include "dorado/odometry/ground_plane.hpp"
 #include "dorado/odometry/yaw_calibration.hpp"
 #include "dorado/testing/run_command.hpp"
+#include "dorado/testing/scan_folder.hpp"
 
 namespace {
 
@@ -50,7 +51,8 @@ std::string HeaderOf(const fs::path &csv) {
 class OutputsDoc : public ::testing::Test {
   protected:
     static void SetUpTestSuite() {
-        dir_ = fs::path(::testing::TempDir()) / ("dorado_outputs_doc_" + std::to_string(::getpid()));
+        dir_ =
+            fs::path(::testing::TempDir()) / ("dorado_outputs_doc_" + std::to_string(::getpid()));
         fs::remove_all(dir_);
         fs::create_directories(dir_);
         const fs::path sim = dir_ / "sim";
@@ -63,8 +65,8 @@ class OutputsDoc : public ::testing::Test {
                          (dir_ / "map").string())
                       .code,
                   0);
-        const Result twist = Dorado("twist " + TwoRadars().string() + " --out " +
-                                    (dir_ / "twist").string());
+        const Result twist =
+            Dorado("twist " + TwoRadars().string() + " --out " + (dir_ / "twist").string());
         ASSERT_EQ(twist.code, 0) << twist.err;
     }
     static void TearDownTestSuite() { fs::remove_all(dir_); }
@@ -77,20 +79,10 @@ class OutputsDoc : public ::testing::Test {
     // Two 2D radars looking ahead and left at static points while the vehicle drives ahead.
     static fs::path TwoRadars() {
         for (const char *radar : {"front", "left"}) {
-            fs::create_directories(dir_ / radar / "scans");
-            std::ofstream times(dir_ / radar / "times.txt");
-            for (int k = 0; k < 15; ++k) {
-                char name[32];
-                std::snprintf(name, sizeof(name), "%05d.bin", k);
-                std::ofstream scan(dir_ / radar / "scans" / name, std::ios::binary);
-                for (int i = 0; i < 30; ++i) {
-                    const float x = 5.0f + i, y = -8.0f + 0.6f * i;
-                    const float v_r = -1.5f * x / std::hypot(x, y);  // 1.5 m/s along the radar's x
-                    const float row[5] = {x, y, 0.0f, 5.0f, v_r};
-                    scan.write(reinterpret_cast<const char *>(row), sizeof(row));
-                }
-                times << 10.0 + 0.1 * k << "\n";
-            }
+            dorado::testing::WriteScanFolder(dir_ / radar, 15, 30, [](int i, float *v) {
+                v[0] = 5.0f + i, v[1] = -8.0f + 0.6f * i, v[2] = 0.0f, v[3] = 5.0f;
+                v[4] = -1.5f * v[0] / std::hypot(v[0], v[1]);  // 1.5 m/s along the radar's x
+            });
         }
         const fs::path description = dir_ / "two.yaml";
         std::ofstream(description)

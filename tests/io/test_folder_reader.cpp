@@ -214,13 +214,12 @@ TEST_F(FolderReaderTest, NeverUsesAScanWhoseLayoutTheSizesCannotVerify) {
         // The rule's second half: any misfit refuses when another count of 3 or more fits every
         // (non-empty) file.
         bool other_fits = false;
-        const bool all_empty = std::all_of(points.begin(), points.end(),
-                                           [&](std::size_t p) { return p * t == 0; });
+        const bool all_empty =
+            std::all_of(points.begin(), points.end(), [&](std::size_t p) { return p * t == 0; });
         for (std::size_t k = 3; k <= 32 && !all_empty; ++k)
-            other_fits = other_fits || (k != c && std::all_of(points.begin(), points.end(),
-                                                              [&](std::size_t p) {
-                                                                  return (p * t) % k == 0;
-                                                              }));
+            other_fits = other_fits ||
+                         (k != c && std::all_of(points.begin(), points.end(),
+                                                [&](std::size_t p) { return (p * t) % k == 0; }));
         const bool must_refuse = misfits > allowed || (misfits > 0 && other_fits);
         const std::string where = "trial " + std::to_string(trial) + ": " + std::to_string(n) +
                                   " files of " + std::to_string(t) + " columns read as " +
