@@ -64,14 +64,12 @@ class CmdData : public ::testing::Test {
             });
         const fs::path description = dir_ / "two.yaml";
         std::ofstream(description)
-            << "name: two\nreader: folder\nfolder:\n  scans_dir: front/scans\n  extension: .bin\n"
-               "  timestamps_file: front/times.txt\n  columns: [x, y, z, rcs, v_r]\n"
-               "fields: {x: x, y: y, z: z, range: \"\", azimuth: \"\", elevation: \"\", power: "
-               "rcs, doppler: v_r}\n"
-               "radars:\n"
-               "  - {name: front, scans_dir: front/scans, timestamps_file: front/times.txt,\n"
-               "     T_base_radar: {translation_m: [1, 0, 0]}}\n"
-               "  - {name: left, scans_dir: left/scans, "
+            << "name: two\n"
+            << dorado::testing::kFrontFolderKeys
+            "radars:\n"
+            "  - {name: front, scans_dir: front/scans, timestamps_file: front/times.txt,\n"
+            "     T_base_radar: {translation_m: [1, 0, 0]}}\n"
+            "  - {name: left, scans_dir: left/scans, "
             << second_radar_keys << "\n     T_base_radar: {translation_m: [0, 1, 0]}}\n";
         return description;
     }

@@ -50,6 +50,12 @@ class FirstHour : public ::testing::Test {
         return dorado::testing::Contains(text, part);
     }
     static fs::path Sim() { return dir_ / "sim"; }
+    // A command line refused with exit 1 and a message holding @p part.
+    static void ExpectRefused(const std::string &args, const std::string &part) {
+        const Result r = Dorado(args);
+        EXPECT_EQ(r.code, 1) << args;
+        EXPECT_TRUE(Has(r.err, part)) << args << ": " << r.err;
+    }
     // The simulated description with one line replaced, beside it (its paths stay valid).
     static fs::path SimVariant(const std::string &name, const std::string &from,
                                const std::string &to) {
@@ -187,32 +193,23 @@ TEST_F(FirstHour, ACalibrationWindowPastTheDrivesEndIsRefused) {
     EXPECT_EQ(r.code, 1) << r.err;
     EXPECT_TRUE(Has(r.err, "--from 10 s is past the drive's end")) << r.err;
     EXPECT_FALSE(fs::exists(out));
-    const Result to = Dorado("calibrate sx " + Sim().string() + " --to 40 --out " + out.string());
-    EXPECT_EQ(to.code, 1) << to.err;
-    EXPECT_TRUE(Has(to.err, "--to 40 s is past the drive's end")) << to.err;
+    ExpectRefused("calibrate sx " + Sim().string() + " --to 40 --out " + out.string(),
+                  "--to 40 s is past the drive's end");
 }
 
 TEST_F(FirstHour, AnUnknownCommandBeforeHelpExitsOne) {
     const Result r = Dorado("nosuch --help");
     EXPECT_EQ(r.code, 1) << r.out;
     EXPECT_TRUE(Has(r.err, "unknown command 'nosuch'")) << r.err;
-    const Result close = Dorado("mapp --help");
-    EXPECT_EQ(close.code, 1);
-    EXPECT_TRUE(Has(close.err, "did you mean 'map'?")) << close.err;
-    const Result nested = Dorado("config prnt --help");
-    EXPECT_EQ(nested.code, 1);
-    EXPECT_TRUE(Has(nested.err, "did you mean 'print'?")) << nested.err;
+    ExpectRefused("mapp --help", "did you mean 'map'?");
+    ExpectRefused("config prnt --help", "did you mean 'print'?");
     EXPECT_EQ(Dorado("map --help").code, 0);
     EXPECT_EQ(Dorado("config print --help").code, 0);
 }
 
 TEST_F(FirstHour, ChoicesOfACommandSuggestTheClosest) {
-    const Result config = Dorado("config print mapperr");
-    EXPECT_EQ(config.code, 1);
-    EXPECT_TRUE(Has(config.err, "did you mean 'mapper'?")) << config.err;
-    const Result step = Dorado("calibrate rotaton x.bag --out x.yaml");
-    EXPECT_EQ(step.code, 1);
-    EXPECT_TRUE(Has(step.err, "did you mean 'rotation'?")) << step.err;
+    ExpectRefused("config print mapperr", "did you mean 'mapper'?");
+    ExpectRefused("calibrate rotaton x.bag --out x.yaml", "did you mean 'rotation'?");
 
     // --radars on a two-radar folder.
     const fs::path folder = dir_ / "two";

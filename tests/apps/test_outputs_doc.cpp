@@ -86,11 +86,9 @@ class OutputsDoc : public ::testing::Test {
         }
         const fs::path description = dir_ / "two.yaml";
         std::ofstream(description)
-            << "name: two\nreader: folder\nfolder:\n  scans_dir: front/scans\n  extension: .bin\n"
-               "  timestamps_file: front/times.txt\n  columns: [x, y, z, rcs, v_r]\n"
-               "fields: {x: x, y: y, z: z, range: \"\", azimuth: \"\", elevation: \"\", power: "
-               "rcs, doppler: v_r}\n"
-               "vehicle: {model: ackermann, half_wheelbase_m: 1.3}\n"
+            << "name: two\n"
+            << dorado::testing::kFrontFolderKeys
+            << "vehicle: {model: ackermann, half_wheelbase_m: 1.3}\n"
                "radar: {geometry: planar}\n"
                "radars:\n"
                "  - {name: front, scans_dir: front/scans, timestamps_file: front/times.txt,\n"

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <string>
 
 namespace dorado::testing {
 
@@ -26,6 +27,14 @@ inline void WriteScanFolder(const std::filesystem::path &dir, int scans, int poi
         times << 10.0 + 0.1 * k << "\n";
     }
 }
+
+/// A description's reader, folder (front/scans, front/times.txt, five float32 columns) and field
+/// map for WriteScanFolder's files; the test adds its radars: list and the rest.
+inline constexpr const char *kFrontFolderKeys =
+    "reader: folder\nfolder:\n  scans_dir: front/scans\n  extension: .bin\n"
+    "  timestamps_file: front/times.txt\n  columns: [x, y, z, rcs, v_r]\n"
+    "fields: {x: x, y: y, z: z, range: \"\", azimuth: \"\", elevation: \"\", power: rcs, "
+    "doppler: v_r}\n";
 
 /// "did you mean" and the other messages: whether @p text holds @p part.
 inline bool Contains(const std::string &text, const std::string &part) {
