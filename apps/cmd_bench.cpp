@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -22,8 +23,10 @@
 #include "dorado/config/map_config.hpp"
 #include "dorado/config/odometry_config.hpp"
 #include "dorado/io/atomic_file.hpp"
+#include "one_of.hpp"
 #include "output_folder.hpp"
 #include "progress.hpp"
+#include "stream_guard.hpp"
 
 namespace dorado::apps {
 
@@ -160,10 +163,25 @@ std::vector<JobOutcome> RunAll(const std::vector<BenchRun> &runs, const BenchCon
                      "bench: %s: the finished run in %s had other settings or inputs: run again\n",
                      jobs[job].name.c_str(), jobs[job].out_dir.c_str());
     };
+    const SignalCatcher signals;  // Ctrl-C: the running runs end, nothing new starts
+    runner.stop_requested = [&] { return signals.caught() != 0; };
     std::fprintf(stderr, "bench: %zu runs (%zu sequences) on %zu parallel jobs, results in %s\n",
                  jobs.size(), config.sequences.size(), config.jobs, out_dir.c_str());
     std::vector<JobOutcome> outcomes = RunJobs(jobs, runner);
     progress.Finish();
+    if (signals.caught() != 0) {
+        std::size_t finished = 0;
+        for (const JobOutcome &o : outcomes) finished += o.status != JobStatus::kFailed;
+        throw StoppedEarly("bench " +
+                               std::string(signals.caught() == SIGINT ? "interrupted (SIGINT)"
+                                                                      : "terminated (SIGTERM)") +
+                               ": " + std::to_string(finished) + " of " +
+                               std::to_string(jobs.size()) + " runs finished, kept in " + out_dir +
+                               "/runs (logs in " + out_dir +
+                               "/logs); no report written: the same command again runs the "
+                               "others and writes it",
+                           130);
+    }
     return outcomes;
 }
 
@@ -280,11 +298,11 @@ void RegisterBenchCommand(CLI::App &app) {
     cmd->add_option("--reference", options->reference,
                     "score against the recorded ground truth (ground_truth, the default) or, for "
                     "simulated sequences, the exact trajectory (exact)")
-        ->check(CLI::IsMember({"ground_truth", "exact"}));
+        ->check(OneOf({"ground_truth", "exact"}));
     cmd->add_option("--association", options->association,
                     "interpolate: ground truth interpolated at each estimated stamp (default); "
                     "nearest: evo's nearest stamp within --t_max_diff")
-        ->check(CLI::IsMember({"interpolate", "nearest"}));
+        ->check(OneOf({"interpolate", "nearest"}));
     cmd->add_option("--t_max_diff", options->t_max_diff_s,
                     "nearest: largest stamp difference [s] (default: the config's, else 0.01)")
         ->check(CLI::PositiveNumber);

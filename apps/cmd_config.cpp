@@ -9,6 +9,7 @@
 #include "config_keys.hpp"
 #include "dorado/config/map_config.hpp"
 #include "dorado/config/odometry_config.hpp"
+#include "one_of.hpp"
 
 namespace dorado::apps {
 
@@ -43,7 +44,7 @@ void RegisterConfigCommand(CLI::App &app) {
         "without FILE");
     print->add_option("which", opt->which, "odometry | mapper")
         ->required()
-        ->check(CLI::IsMember({"odometry", "mapper"}));
+        ->check(OneOf({"odometry", "mapper"}));
     print->add_option("file", opt->file, "an odometry.yaml or mapper.yaml")
         ->check(CLI::ExistingFile);
     print->callback([opt] { Print(*opt); });

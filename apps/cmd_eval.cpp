@@ -15,6 +15,7 @@
 #include "dorado/eval/relative_pose_error.hpp"
 #include "dorado/io/atomic_file.hpp"
 #include "dorado/io/trajectory_io.hpp"
+#include "one_of.hpp"
 
 namespace dorado::apps {
 
@@ -160,12 +161,12 @@ void RegisterEvalCommand(CLI::App &app) {
     cmd->add_option("--est", options->est_path, "estimate, TUM format")->required();
     cmd->add_option("--delta", options->delta, "RPE pair distance")->capture_default_str();
     cmd->add_option("--unit", options->unit, "unit of --delta")
-        ->check(CLI::IsMember({"frames", "seconds", "meters", "f", "s", "m"}))
+        ->check(OneOf({"frames", "seconds", "meters", "f", "s", "m"}))
         ->capture_default_str();
     cmd->add_option("--association", options->association,
                     "interpolate: ground truth interpolated at each estimated stamp; nearest: "
                     "evo's nearest stamp within --max-diff")
-        ->check(CLI::IsMember({"interpolate", "nearest"}))
+        ->check(OneOf({"interpolate", "nearest"}))
         ->capture_default_str();
     cmd->add_option("--max-gap", options->max_gap_s,
                     "interpolate: largest ground-truth gap bridged [s]")

@@ -13,6 +13,8 @@
 #include "map_outputs.hpp"
 #include "multi_radar_map.hpp"
 #include "output_folder.hpp"
+#include "plausibility.hpp"
+#include "preflight.hpp"
 #include "progress.hpp"
 #include "reference_path.hpp"
 #include "scan_loop.hpp"
@@ -24,7 +26,7 @@ namespace {
 struct MapOptions {
     std::string dataset, out, config, odometry_config, prior = "doppler", radars = "all";
     std::string data;  // --data DIR
-    bool no_mask = false, masks = false, fixed_mounts = false;
+    bool no_mask = false, masks = false, fixed_mounts = false, accept_implausible = false;
     io::DatasetChoice choice;  // --scene, --sequence
 };
 
@@ -63,7 +65,7 @@ void RunMap(const MapOptions &opt) {
     const io::DatasetConfig dataset =
         opt.radars == "all"
             ? io::ResolveDataset(opt.dataset, opt.data, opt.choice)
-            : SelectRadar(io::ResolveDataset(opt.dataset, opt.data, opt.choice), opt.radars);
+            : SelectRadar(io::ResolveDataset(opt.dataset, opt.data, opt.choice), opt.radars, true);
     const dorado::config::MapCommandConfig map_config =
         opt.config.empty() ? dorado::config::MapCommandConfig{}
                            : dorado::config::LoadMapConfig(opt.config);
@@ -73,6 +75,7 @@ void RunMap(const MapOptions &opt) {
     if (needs_imu && !HasImu(dataset))
         throw io::ConfigError(DatasetFile(dataset, opt.dataset) + ": key '" + ImuKey(dataset) +
                               "': --prior " + opt.prior + " needs an IMU");
+    StateAssumptions(dataset, opt.dataset, "map");
     if (dataset.radars.size() >= 2 && opt.radars == "all") {
         if (opt.masks)
             throw io::ConfigError(
@@ -80,23 +83,29 @@ void RunMap(const MapOptions &opt) {
                 "dataset's radars: list add --radars first (or a radar's name)");
         odometry::PlanarTwistFilterConfig twist_filter;
         twist_filter.calibrate_mount_yaw = !opt.fixed_mounts;
-        RunMultiRadarMap(dataset, config, twist_filter, opt.out);
+        CheckBeforeWork(dataset, opt.out);
+        RunMultiRadarMap(dataset, config, twist_filter, opt.out, opt.accept_implausible);
         return;
     }
     const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "map");
     frontend::RadarFrontEnd front_end(config, dataset.extrinsics, dataset.vehicle);
+    const std::size_t expected = CountRadarMessages(dataset, needs_imu, "--prior " + opt.prior);
+    CheckBeforeWork(dataset, opt.out);
     PrepareOutputFolder(opt.out);
     if (opt.masks) io::MakeDirectories(opt.out + "/masks");
 
-    const std::size_t expected = CountRadarMessages(dataset, needs_imu, "--prior " + opt.prior);
     auto reader = io::OpenDataset(dataset);
     Progress progress("map", expected);
     MapOutputs outputs(config.mapper.map.voxel_size_m);
+    PlausibilityWatch plausibility(dataset.radar.doppler_unambiguous_mps);
     ScanLoop loop(front_end);
     StreamGuard guard;  // Ctrl-C or a reader error mid-stream: stop, write what was done
     loop.Run(*reader, guard, progress,
              [&](const io::DatasetEvent &event, const frontend::FrontEndResult &r) {
                  outputs.Add(r);
+                 plausibility.AddPoints(event.scan);
+                 plausibility.AddSpeed(event.stamp_ns, r.odometry.ego.valid(),
+                                       r.odometry.ego.v_radar_mps.norm());
                  if (opt.masks && r.accepted) WriteMapMask(opt.out, event.scan_index, r);
              });
     guard.ThrowIfNoScanUsed(loop.used(), reader->source());
@@ -111,6 +120,10 @@ void RunMap(const MapOptions &opt) {
     if (!radars_used.is_null()) summary["radars"] = radars_used;
     AddStreamCounts(loop, summary);
     summary.update(outputs.Summary());
+    const std::vector<std::string> implausible =
+        plausibility.Problems(loop.used(), static_cast<std::size_t>(outputs.fallbacks()),
+                              "fell back to the prior", front_end.trajectory().PathLength());
+    summary.update(PlausibilityRecord(implausible, plausibility, opt.accept_implausible));
     WriteSummary(opt.out, summary);
     std::fprintf(stderr,
                  "map: %zu scans, %zu registered, %d fell back to the prior, %.2f ms/scan, path "
@@ -118,6 +131,7 @@ void RunMap(const MapOptions &opt) {
                  loop.scans(), loop.used(), outputs.fallbacks(), outputs.mean_time_ms(),
                  front_end.trajectory().PathLength(), opt.out.c_str());
     guard.ThrowIfStopped("map", loop.scans(), opt.out);
+    EndIfImplausible(implausible, "map", opt.out, opt.accept_implausible);
 }
 
 }  // namespace
@@ -154,6 +168,7 @@ void RegisterMapCommand(CLI::App &app) {
     cmd->add_flag("--masks", opt->masks,
                   "write DIR/masks/NNNNNN.txt: per point 0 static, 1 dynamic, 2 filtered, 3 kept "
                   "out by the mover rules");
+    AddAcceptImplausibleFlag(cmd, opt->accept_implausible);
     cmd->callback([opt] { RunMap(*opt); });
 }
 

@@ -17,6 +17,8 @@
 #include "dorado/io/dataset.hpp"
 #include "dorado/io/trajectory_io.hpp"
 #include "output_folder.hpp"
+#include "plausibility.hpp"
+#include "preflight.hpp"
 #include "progress.hpp"
 #include "scan_loop.hpp"
 #include "stream_guard.hpp"
@@ -26,7 +28,7 @@ namespace {
 
 struct OdometryOptions {
     std::string dataset, data, out, config, method, rotation, radars;
-    bool masks = false;
+    bool masks = false, accept_implausible = false;
     io::DatasetChoice choice;  // --scene, --sequence
 };
 
@@ -123,6 +125,7 @@ void RunOdometry(const OdometryOptions &opt) {
     const io::DatasetConfig dataset =
         SelectRadar(io::ResolveDataset(opt.dataset, opt.data, opt.choice), opt.radars);
     const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "odometry");
+    StateAssumptions(dataset, opt.dataset, "odometry");
     frontend::FrontEndConfig config;
     config.run_mapper = false;
     if (!opt.config.empty()) config.odometry = dorado::config::LoadOdometryConfig(opt.config);
@@ -140,10 +143,11 @@ void RunOdometry(const OdometryOptions &opt) {
     }
     config.odometry.ego_velocity.sensor = dataset.radar;  // the radar: noise, ambiguity
     frontend::RadarFrontEnd front_end(config, dataset.extrinsics, dataset.vehicle);
+    const std::size_t expected = CountRadarMessages(dataset, needs_imu, "rotation from the IMU");
+    CheckBeforeWork(dataset, opt.out);
     PrepareOutputFolder(opt.out);
     if (opt.masks) io::MakeDirectories(opt.out + "/masks");
 
-    const std::size_t expected = CountRadarMessages(dataset, needs_imu, "rotation from the IMU");
     auto reader = io::OpenDataset(dataset);
     Progress progress("odometry", expected);
     std::string csv = kCsvHeader;
@@ -155,12 +159,15 @@ void RunOdometry(const OdometryOptions &opt) {
     std::size_t fallbacks = 0, zero_velocity_updates = 0;
     std::size_t ground_scans = 0, ground_relevels = 0;
     std::map<odometry::GroundFallback, int> ground_fallbacks;
+    PlausibilityWatch plausibility(dataset.radar.doppler_unambiguous_mps);
     ScanLoop loop(front_end);
     StreamGuard guard;  // Ctrl-C or a reader error mid-stream: stop, write what was done
     loop.Run(
         *reader, guard, progress,
         [&](const io::DatasetEvent &event, const frontend::FrontEndResult &result) {
             const odometry::OdometryStep &step = result.odometry;
+            plausibility.AddPoints(event.scan);
+            plausibility.AddSpeed(event.stamp_ns, step.ego.valid(), step.ego.v_radar_mps.norm());
             fallbacks += step.used_fallback;
             zero_velocity_updates += step.zero_velocity_update;
             if (step.used_fallback) fallback_causes[step.fallback_cause]++;
@@ -212,6 +219,10 @@ void RunOdometry(const OdometryOptions &opt) {
                              {"scans_without_ground", CountsByKey(ground_fallbacks)}};
     }
     AddStreamCounts(loop, summary);
+    const std::vector<std::string> implausible = plausibility.Problems(
+        loop.used(), fallbacks, "used a fallback twist",
+        method == odometry::OdometryMethod::kImu ? -1.0 : front_end.trajectory().PathLength());
+    summary.update(PlausibilityRecord(implausible, plausibility, opt.accept_implausible));
     WriteSummary(opt.out, summary);
     std::fprintf(stderr,
                  "odometry: %zu scans, %zu used, %zu with a fallback twist%s, %.3f ms/scan, "
@@ -223,6 +234,7 @@ void RunOdometry(const OdometryOptions &opt) {
         std::fprintf(stderr, "odometry: no valid velocity on %d scans (%s); the first, %s\n", count,
                      odometry::ToString(failure), first_invalid[failure].c_str());
     guard.ThrowIfStopped("odometry", loop.scans(), opt.out);
+    EndIfImplausible(implausible, "odometry", opt.out, opt.accept_implausible);
 }
 
 }  // namespace
@@ -252,6 +264,7 @@ void RegisterOdometryCommand(CLI::App &app) {
                     "radar) or a radar's name; every radar's twist: dorado twist");
     cmd->add_flag("--masks", opt->masks,
                   "write DIR/masks/NNNNNN.txt: per-point static/dynamic labels");
+    AddAcceptImplausibleFlag(cmd, opt->accept_implausible);
     cmd->callback([opt] { RunOdometry(*opt); });
 }
 

@@ -53,11 +53,13 @@ void RunSimulate(const SimulateOptions &options) {
 }  // namespace
 
 void RegisterSimulateCommand(CLI::App &app) {
-    auto *cmd = app.add_subcommand("simulate",
-                                   "Simulate a radar dataset (Hugin-like 4D radar, IMU, lidar-rate "
-                                   "ground truth) from a sequence "
-                                   "description: a built-in name (seq04 seq05 seq06 seq07 seq08 "
-                                   "seq11 car_urban side_mount) or a YAML file");
+    std::string built_in;
+    for (const std::string &name : sim::BuiltInSequences()) built_in += " " + name;
+    auto *cmd =
+        app.add_subcommand("simulate",
+                           "Simulate a radar dataset (Hugin-like 4D radar, IMU, lidar-rate "
+                           "ground truth) from a sequence description: a built-in name (" +
+                               built_in.substr(built_in.empty() ? 0 : 1) + ") or a YAML file");
     auto options = std::make_shared<SimulateOptions>();
     cmd->add_option("--sequence", options->sequence,
                     "built-in sequence name or a sequence YAML file")

@@ -24,6 +24,7 @@
 #include "dorado/odometry/planar_twist_filter.hpp"
 #include "multi_radar_map.hpp"
 #include "output_folder.hpp"
+#include "preflight.hpp"
 #include "progress.hpp"
 #include "scan_loop.hpp"
 #include "skip_log.hpp"
@@ -61,6 +62,7 @@ void RunTwist(const TwistOptions &opt) {
     const odometry::PlanarKinematicModel kinematic(Extrinsics{dataset.radars[0].T_base_radar},
                                                    dataset.vehicle);
 
+    CheckBeforeWork(dataset, opt.out);
     PrepareOutputFolder(opt.out);
     std::ostringstream csv;
     csv.precision(9);

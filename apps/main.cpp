@@ -66,6 +66,25 @@ std::string UsageError(const CLI::App &app, const CLI::ParseError &e) {
            " --help` lists the " + (command.get_parent() ? "options" : "commands");
 }
 
+/// The command words of the command line checked before CLI11 parses it, so that an unknown
+/// command followed by --help (`dorado nosuch --help`) is an error naming the closest command
+/// instead of the general help: returns the error, or "" when every command word is known.
+std::string UnknownCommandWord(const CLI::App &app, int argc, char **argv) {
+    const CLI::App *command = &app;
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        if (arg.rfind('-', 0) == 0) return "";  // options from here on: CLI11 judges them
+        const auto subs = command->get_subcommands([](const CLI::App *) { return true; });
+        if (subs.empty()) return "";  // the command's own positional arguments
+        const CLI::App *next = nullptr;
+        for (const CLI::App *sub : subs)
+            if (sub->check_name(arg)) next = sub;
+        if (!next) return UnexpectedArgument(*command, arg);
+        command = next;
+    }
+    return "";
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -87,6 +106,10 @@ int main(int argc, char **argv) {
     dorado::apps::RegisterConfigCommand(app);
     dorado::apps::RegisterReplayCommand(app);
 
+    if (const std::string unknown = UnknownCommandWord(app, argc, argv); !unknown.empty()) {
+        std::cerr << "dorado: error: " << unknown << "\n";
+        return 1;
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::RuntimeError &e) {  // a command that has said why and chose its code

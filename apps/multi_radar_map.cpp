@@ -11,6 +11,7 @@
 #include "dorado/io/dataset.hpp"
 #include "map_outputs.hpp"
 #include "output_folder.hpp"
+#include "plausibility.hpp"
 #include "progress.hpp"
 #include "reference_path.hpp"
 #include "scan_loop.hpp"
@@ -72,7 +73,7 @@ void WriteCalibratedMounts(const std::string &out_dir, const io::DatasetConfig &
 
 void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEndConfig &config,
                       const odometry::PlanarTwistFilterConfig &twist_filter,
-                      const std::string &out_dir) {
+                      const std::string &out_dir, bool accept_implausible) {
     frontend::MultiRadarFrontEnd front_end(config, Mounts(dataset), dataset.extrinsics.T_base_imu,
                                            dataset.vehicle, twist_filter);
     PrepareOutputFolder(out_dir);
@@ -87,6 +88,7 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
     std::size_t scans = 0, sweeps = 0;
     long long nonfinite = 0;
     double radars_per_sweep = 0.0;
+    PlausibilityWatch plausibility(dataset.radar.doppler_unambiguous_mps);
     StreamGuard guard;  // Ctrl-C or a reader error mid-stream: stop, write what was done
     io::DatasetEvent event;
     while (guard.Next(*reader, event)) {
@@ -113,6 +115,8 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
             continue;
         }
         c.ego_valid += step.ego.valid();
+        plausibility.AddPoints(event.scan);
+        plausibility.AddSpeed(event.stamp_ns, step.ego.valid(), step.ego.v_radar_mps.norm());
         c.updates[step.twist_update]++;
         if (step.sweep) {
             outputs.Add(*step.sweep);
@@ -149,6 +153,10 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
                     {"radar_geometry", "planar"},
                     {"path_length_m", front_end.trajectory().PathLength()}});
     summary.update(outputs.Summary());
+    const std::vector<std::string> implausible =
+        plausibility.Problems(sweeps, static_cast<std::size_t>(outputs.fallbacks()),
+                              "fell back to the prior", front_end.trajectory().PathLength());
+    summary.update(PlausibilityRecord(implausible, plausibility, accept_implausible));
     WriteSummary(out_dir, summary);
     std::fprintf(stderr,
                  "map: %zu scans of %zu radars, %zu sweeps (%.2f radars each), %d fell back to "
@@ -157,6 +165,7 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
                  sweeps > 0 ? radars_per_sweep / double(sweeps) : 0.0, outputs.fallbacks(),
                  outputs.mean_time_ms(), front_end.trajectory().PathLength(), out_dir.c_str());
     guard.ThrowIfStopped("map", scans, out_dir);
+    EndIfImplausible(implausible, "map", out_dir, accept_implausible);
 }
 
 }  // namespace dorado::apps

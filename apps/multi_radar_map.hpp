@@ -14,10 +14,11 @@ namespace dorado::apps {
 
 /// Maps every radar of dataset.radars into out_dir (trajectory.tum at the first radar's stamps,
 /// map.*, scans.csv one row per sweep, covariance.csv, summary.json with "radars"). Throws
-/// io::ConfigError / io::DatasetError naming the file; StoppedEarly after writing what was done.
+/// io::ConfigError / io::DatasetError naming the file; StoppedEarly after writing what was done,
+/// or when the results are implausible and not @p accept_implausible (plausibility.hpp).
 void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEndConfig &config,
                       const odometry::PlanarTwistFilterConfig &twist_filter,
-                      const std::string &out_dir);
+                      const std::string &out_dir, bool accept_implausible);
 
 /// Radar k's record for summary.json's "radars": its mount yaw offset from the published one and
 /// its 1-sigma [deg], and whether it was estimated.

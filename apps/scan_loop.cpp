@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "dorado/io/atomic_file.hpp"
+#include "dorado/io/closest_name.hpp"
 #include "dorado/mapping/motion_prior.hpp"
 
 namespace dorado::apps {
@@ -101,17 +102,23 @@ nlohmann::json ReportRadarsUsed(const io::DatasetConfig &dataset, const std::str
             {"radars_used", nlohmann::json::array({used})}};
 }
 
-io::DatasetConfig SelectRadar(const io::DatasetConfig &dataset, const std::string &choice) {
+io::DatasetConfig SelectRadar(const io::DatasetConfig &dataset, const std::string &choice,
+                              bool all_allowed) {
     if (choice.empty() || choice == "first") return dataset;
     std::string names;
+    std::vector<std::string> known{"first"};
+    if (all_allowed) known.push_back("all");
     for (std::size_t k = 0; k < dataset.radars.size(); ++k) {
         if (dataset.radars[k].name == choice) return io::ForRadar(dataset, k);
         names += (names.empty() ? "" : ", ") + dataset.radars[k].name;
+        known.push_back(dataset.radars[k].name);
     }
+    const std::string closest = io::ClosestName(choice, known);
     throw io::ConfigError("--radars " + choice + ": " +
                           (names.empty()
                                ? "the dataset has no radars: list"
-                               : "no such radar in the dataset's radars: list (" + names + ")"));
+                               : "no such radar in the dataset's radars: list (" + names + ")") +
+                          (closest.empty() ? "" : "; did you mean '" + closest + "'?"));
 }
 
 void WriteMaskFile(const std::string &out_dir, std::size_t scan_index, int64_t stamp_ns,

@@ -66,9 +66,10 @@ nlohmann::json ReportRadarsUsed(const io::DatasetConfig &dataset, const std::str
                                 const std::string &command);
 /// The description for `--radars CHOICE` on a dataset with a `radars:` list: "first" (or "") the
 /// `folder:` + `extrinsics:` radar as described; a radar's name that radar alone (io::ForRadar).
-/// Throws io::ConfigError naming the option and the radars' names for an unknown name.
+/// Throws io::ConfigError naming the option, the radars' names and the closest choice (with "all"
+/// among them when @p all_allowed: `dorado map`) for an unknown name.
 [[nodiscard]] io::DatasetConfig SelectRadar(const io::DatasetConfig &dataset,
-                                            const std::string &choice);
+                                            const std::string &choice, bool all_allowed = false);
 /// Writes out_dir/masks/NNNNNN.txt (NNNNNN = scan_index): a header naming the stamp and `legend`
 /// (what each label means), then one label per point in input order.
 void WriteMaskFile(const std::string &out_dir, std::size_t scan_index, int64_t stamp_ns,

@@ -19,24 +19,31 @@ Handler g_previous_int = SIG_DFL, g_previous_term = SIG_DFL;
 
 }  // namespace
 
-StreamGuard::StreamGuard() {
+SignalCatcher::SignalCatcher() {
     g_signal = 0;
     g_previous_int = std::signal(SIGINT, OnSignal);
     g_previous_term = std::signal(SIGTERM, OnSignal);
-    if (const char *hook = std::getenv("DORADO_TEST_SIGINT_AFTER_SCANS"))
-        sigint_after_scans_ = std::strtol(hook, nullptr, 10);
 }
 
-StreamGuard::~StreamGuard() {
+SignalCatcher::~SignalCatcher() {
     std::signal(SIGINT, g_previous_int);
     std::signal(SIGTERM, g_previous_term);
 }
 
+int SignalCatcher::caught() const {
+    return g_signal;
+}
+
+StreamGuard::StreamGuard() {
+    if (const char *hook = std::getenv("DORADO_TEST_SIGINT_AFTER_SCANS"))
+        sigint_after_scans_ = std::strtol(hook, nullptr, 10);
+}
+
 bool StreamGuard::Next(io::DatasetReader &reader, io::DatasetEvent &event) {
     if (!reason_.empty()) return false;
-    if (g_signal != 0) {
+    if (const int signal_number = signals_.caught(); signal_number != 0) {
         signalled_ = true;
-        reason_ = g_signal == SIGINT ? "interrupted (SIGINT)" : "terminated (SIGTERM)";
+        reason_ = signal_number == SIGINT ? "interrupted (SIGINT)" : "terminated (SIGTERM)";
         return false;
     }
     try {

@@ -11,15 +11,24 @@
 
 namespace dorado::apps {
 
+/// While it lives, SIGINT and SIGTERM are caught instead of ending the process: the first signal
+/// is kept (caught()); the handler is then reset, so a second signal ends the process at once.
+class SignalCatcher {
+  public:
+    SignalCatcher();
+    /// Restores the previous handlers.
+    ~SignalCatcher();
+    SignalCatcher(const SignalCatcher &) = delete;
+    SignalCatcher &operator=(const SignalCatcher &) = delete;
+    /// The signal caught (SIGINT, SIGTERM), 0 while none was.
+    [[nodiscard]] int caught() const;
+};
+
 class StreamGuard {
   public:
-    /// Installs the SIGINT/SIGTERM handlers: the first signal asks the loop to stop after the
-    /// current scan; the handler is then reset, so a second signal ends the process at once.
+    /// Catches SIGINT/SIGTERM (SignalCatcher): the first signal asks the loop to stop after the
+    /// current scan.
     StreamGuard();
-    /// Restores the previous handlers.
-    ~StreamGuard();
-    StreamGuard(const StreamGuard &) = delete;
-    StreamGuard &operator=(const StreamGuard &) = delete;
 
     /// reader.Next(event), or false when the stream ends early: at a signal or at a DatasetError
     /// thrown by the reader (the reason is kept, see stopped()).
@@ -40,6 +49,7 @@ class StreamGuard {
                         const std::string &out_dir) const;
 
   private:
+    SignalCatcher signals_;
     std::string reason_;
     bool signalled_ = false;
     /// Test hook: with DORADO_TEST_SIGINT_AFTER_SCANS=N in the environment, the process sends

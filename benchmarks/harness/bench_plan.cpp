@@ -97,6 +97,9 @@ std::vector<GridAxis> ParseGrid(io::YamlSection &grid, const YAML::Node &node,
     return axes;
 }
 
+// A bench measures every run, plausible or not: summary.json's "implausible" says which are not.
+constexpr const char *kAcceptImplausible = "--accept-implausible";
+
 // A run's arguments with --data DIR when its sequence names a data folder.
 std::vector<std::string> WithData(std::vector<std::string> args, const std::string &data) {
     if (!data.empty()) {
@@ -275,7 +278,8 @@ std::vector<BenchRun> PlanBenchmark(const BenchConfig &config, const std::string
                  seq.odometry_methods.value_or(config.odometry_methods)) {
                 // The paper's three: gyro-only rotation ("IMU"), Doppler only, IMU + Doppler.
                 add_run(RunKind::kOdometry, std::string("odom_") + ToString(m) + suffix,
-                        WithData({"odometry", dataset, "--out", "{out}", "--method", ToString(m)},
+                        WithData({"odometry", dataset, "--out", "{out}", kAcceptImplausible,
+                                  "--method", ToString(m)},
                                  seq.data),
                         run_config, m != odometry::OdometryMethod::kImu);
             }
@@ -287,7 +291,8 @@ std::vector<BenchRun> PlanBenchmark(const BenchConfig &config, const std::string
             const std::string suffix = variant.name.empty() ? "" : "@" + variant.name;
             for (const mapping::PriorKind prior : seq.map_priors.value_or(config.map_priors)) {
                 add_run(RunKind::kMap, std::string("map_") + ToString(prior) + suffix,
-                        WithData({"map", dataset, "--prior", ToString(prior), "--out", "{out}"},
+                        WithData({"map", dataset, "--prior", ToString(prior), "--out", "{out}",
+                                  kAcceptImplausible},
                                  seq.data),
                         run_config);
             }

@@ -177,8 +177,13 @@ std::vector<JobOutcome> RunJobs(const std::vector<BenchJob> &jobs, const RunnerO
 
     while (finished < jobs.size()) {
         // Fail jobs whose dependency failed; start ready jobs while workers are free.
+        const bool stopping = options.stop_requested && options.stop_requested();
         for (std::size_t i = 0; i < jobs.size(); ++i) {
             if (!is_pending(i)) continue;
+            if (stopping) {
+                end_job(i, JobStatus::kFailed, 0.0, "not run (interrupted)");
+                continue;
+            }
             bool ready = true;
             for (const std::size_t d : jobs[i].depends_on) {
                 if (outcomes[d].status == JobStatus::kFailed) {

@@ -52,6 +52,9 @@ struct RunnerOptions {
     /// Called before the run, for each job whose finished output is of other settings (it runs
     /// again).
     std::function<void(std::size_t job)> on_stale;
+    /// Asked between jobs: true (Ctrl-C) starts no further job; the running ones are waited for
+    /// and the others end as failed, "not run (interrupted)".
+    std::function<bool()> stop_requested;
 };
 
 /// Runs the jobs; returns one outcome per job, in job order. Throws std::invalid_argument for a

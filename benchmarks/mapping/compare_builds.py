@@ -40,7 +40,7 @@ def run_old(binary, label, bench, seq):
     dataset = os.path.join(out_root, seq + ".dataset.yaml")
     dataset_copy(bench, seq, dataset)
     for _ in range(20):
-        proc = subprocess.run([binary, "map", dataset, "--prior", "doppler", "--out", out],
+        proc = subprocess.run([binary, "map", dataset, "--prior", "doppler", "--out", out, "--accept-implausible"],
                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         if proc.returncode == 0 and os.path.exists(trajectory):
             return trajectory

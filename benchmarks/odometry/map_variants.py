@@ -20,7 +20,7 @@ def run(seq_dir, name, config):
     dest = os.path.join(out, 'runs', seq, f'map_{prior}@{name}')
     if os.path.exists(os.path.join(dest, 'summary.json')):
         return f'{seq} {name}: kept'
-    r = subprocess.run(['nice', dorado, 'map', seq_dir, '--prior', prior, '--out', dest,
+    r = subprocess.run(['nice', dorado, 'map', seq_dir, '--prior', prior, '--accept-implausible', '--out', dest,
                         '--odometry-config', config], capture_output=True, text=True)
     return f'{seq} {name}: rc {r.returncode} {r.stderr.strip().splitlines()[-1] if r.stderr.strip() else ""}'
 

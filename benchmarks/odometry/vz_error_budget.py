@@ -104,7 +104,7 @@ def main():
             estimators = ESTIMATORS if vname in ('as described', 'all off') else ESTIMATORS[:1]
             for ename, cfg in estimators:
                 odo_dir = os.path.join(sim_dir, 'odo_' + ('eiv' if cfg else 'plain'))
-                cmd = [DORADO, 'odometry', os.path.join(sim_dir, 'dataset.yaml'), '--out', odo_dir]
+                cmd = [DORADO, 'odometry', os.path.join(sim_dir, 'dataset.yaml'), '--out', odo_dir, '--accept-implausible']
                 if cfg:
                     cfg_path = odo_dir + '.yaml'
                     yaml.safe_dump(cfg, open(cfg_path, 'w'))

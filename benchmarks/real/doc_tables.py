@@ -3,7 +3,10 @@
 
     doc_tables.py ti OUT_DIR                 the TI hand-held recording: odometry, map, loop closure
     doc_tables.py times OUT_DIR NAME...      the map's time per sweep / scan of each run [ms]
-    doc_tables.py bench RESULTS_MD SECTION   the table of one sequence of `dorado bench`'s results.md, verbatim
+    doc_tables.py bench RESULTS_MD SECTION [--drop-time]   the table of one sequence of `dorado bench`'s
+                                             results.md, verbatim (without the time per scan)
+    doc_tables.py bench_axis RESULTS_MD      results.md's rotation error by body axis (pooled), verbatim
+    doc_tables.py xsim RESULTS_MD            run_xsim.py's results.md: its tables and pooled line, verbatim
     doc_tables.py quote GENERATED PAGE...    copies GENERATED's tables into each PAGE's quoted blocks
 
 A generated table sits between `<!-- table NAME -->` and `<!-- end table -->`; a page quotes it between
@@ -59,13 +62,37 @@ def times(out, names):
         print("| %s | %.3f | %.3f | %.3f |" % (name, t["mean"], t["median"], t["p95"]))
 
 
-def bench(results_md, section):
+def bench(results_md, section, drop_time=False):
     with open(results_md) as f:
         text = f.read()
     m = re.search(r"^## %s\n\n((?:\|.*\n)+)" % re.escape(section), text, re.M)
     if not m:
         sys.exit("%s: no table under '## %s'" % (results_md, section))
+    table = m.group(1)
+    if drop_time:  # the machine's time per scan: docs/speed.md prints it with the machine
+        rows = [line.rstrip("\n").rstrip("|").split("|") for line in table.splitlines()]
+        keep = [i for i, cell in enumerate(rows[0]) if "time/scan" not in cell]
+        table = "".join("|".join(row[i] for i in keep if i < len(row)) + "|\n" for row in rows)
+    sys.stdout.write(table)
+
+
+def bench_axis(results_md):
+    with open(results_md) as f:
+        text = f.read()
+    m = re.search(r"^Rotation error by body axis.*\n\n((?:\|.*\n)+)", text, re.M)
+    if not m:
+        sys.exit("%s: no rotation-by-axis table" % results_md)
     sys.stdout.write(m.group(1))
+
+
+def xsim(results_md):
+    """From the first kind's table on: not the preamble (the output folder, the binary, seconds)."""
+    with open(results_md) as f:
+        text = f.read().strip()
+    start = text.find("### ")
+    if start < 0:
+        sys.exit("%s: no kind's table" % results_md)
+    sys.stdout.write(text[start:] + "\n")
 
 
 TABLE = re.compile(r"<!-- table (\S+) -->\n(.*?)<!-- end table -->\n", re.S)
@@ -100,7 +127,11 @@ def main():
     elif kind == "times":
         times(args[0], args[1:])
     elif kind == "bench":
-        bench(args[0], args[1])
+        bench(args[0], args[1], "--drop-time" in args[2:])
+    elif kind == "bench_axis":
+        bench_axis(args[0])
+    elif kind == "xsim":
+        xsim(args[0])
     elif kind == "quote":
         quote(args[0], args[1:])
     else:

@@ -114,9 +114,9 @@ def run_dorado(dorado, data, out, run, map_args, map_masks):
     os.makedirs(out)
     ds = os.path.join(data, 'dorado.yaml')
     if run == 'odometry':
-        cmd = [dorado, 'odometry', ds, '--out', out, '--masks']
+        cmd = [dorado, 'odometry', ds, '--out', out, '--masks', '--accept-implausible']
     else:
-        cmd = [dorado, 'map', ds, '--prior', run.split('_')[1], '--out', out] + (['--masks'] if map_masks else [])
+        cmd = [dorado, 'map', ds, '--prior', run.split('_')[1], '--out', out, '--accept-implausible'] + (['--masks'] if map_masks else [])
         cmd += map_args if run.startswith('map_doppler') else []
     t0 = time.time()
     with open(os.path.join(out, 'run.log'), 'w') as f:

@@ -13,6 +13,7 @@
 #include "dorado/io/dataset_fields.hpp"
 #include "dorado/io/field_yaml.hpp"
 #include "dorado/io/yaml_section.hpp"
+#include "readers.hpp"
 
 namespace dorado::io {
 
@@ -267,6 +268,69 @@ struct WrittenFields {
     }
 };
 
+// The native readers' root key and where --data points for them.
+const char *RootKey(const DatasetConfig &config) {
+    return config.reader == ReaderKind::kNuScenes      ? "nuscenes.dataroot"
+           : config.reader == ReaderKind::kRadarScenes ? "radarscenes.sequence_dir"
+                                                       : "";
+}
+
+// --data DIR for the data sets' own layouts is the release's root, whatever the description's
+// root key says: nuScenes' dataroot (the folder of v1.0-*/, sweeps/, can_bus/) and RadarScenes'
+// folder that holds data/sequence_N (or DIR/sequence_N itself), N from the description's
+// sequence_dir (--sequence then picks another beside it). The key's relative path taken from DIR
+// is kept when only it holds the data.
+void UseDataOptionAsRoot(DatasetConfig &config, const std::string &data_option) {
+    std::error_code ec;
+    std::string resolved;
+    if (config.reader == ReaderKind::kNuScenes) {
+        const bool joined_holds =
+            fs::is_directory(fs::path(config.nuscenes.dataroot) / config.nuscenes.version, ec);
+        const bool root_holds =
+            fs::is_directory(fs::path(data_option) / config.nuscenes.version, ec);
+        if (joined_holds && !root_holds) return;
+        resolved = config.nuscenes.dataroot = data_option;
+    } else if (config.reader == ReaderKind::kRadarScenes &&
+               !config.radarscenes.sequence_dir.empty()) {
+        const fs::path name = RadarScenesSequenceDir(config).filename();
+        const fs::path in_data = fs::path(data_option) / "data" / name,
+                       beside = fs::path(data_option) / name;
+        if (fs::is_directory(in_data, ec))
+            resolved = in_data.string();
+        else if (fs::is_directory(beside, ec))
+            resolved = beside.string();
+        else if (fs::is_directory(config.radarscenes.sequence_dir, ec))
+            return;
+        else
+            resolved = in_data.string();
+        config.radarscenes.sequence_dir = resolved;
+    } else {
+        return;
+    }
+    for (DatasetInput &input : config.inputs)
+        if (input.key == RootKey(config)) input.path = resolved;
+}
+
+// For an error of a data set's own layout: the root key as written and resolved, and from where.
+std::string RootKeyHint(const DatasetConfig &config) {
+    const std::string key = RootKey(config);
+    for (const DatasetInput &input : config.inputs) {
+        if (input.key != key) continue;
+        const std::string base = config.path_base == PathBase::kDataOption
+                                     ? "--data " + config.path_base_dir + " (the data set's root)"
+                                 : fs::path(input.written).is_absolute()
+                                     ? std::string("an absolute path")
+                                     : "a relative path " + DescribePathBase(config);
+        return " (key '" + key + "': written " + input.written + ", resolved " + input.path + ", " +
+               base + "; pass --data DIR with the data set's root: " +
+               (config.reader == ReaderKind::kNuScenes
+                    ? "the folder that holds " + config.nuscenes.version + "/ and sweeps/"
+                    : std::string("the folder that holds data/sequence_N")) +
+               ")";
+    }
+    return "";
+}
+
 }  // namespace
 
 DatasetConfig ForRadar(const DatasetConfig &config, std::size_t index) {
@@ -311,9 +375,20 @@ DatasetConfig LoadDatasetConfig(const std::string &yaml_path, const std::string 
         if (path.key != "data_dir")
             config.inputs.push_back({path.key, path.written, path.resolved});
     if (has_radars) ReadRadars(root, in, yaml_path, config.path_base_dir, config);
+    if (!data_option.empty()) UseDataOptionAsRoot(config, data_option);
     ApplyChoice(config, choice);  // over the paths as resolved
     CheckFields(in, config);
-    ApplyFormatLayout(config, in.Has("extrinsics.T_base_radar"));  // the data set's own radars
+    const bool mount_given = in.Has("extrinsics.T_base_radar");
+    try {
+        ApplyFormatLayout(config, mount_given);  // the data set's own radars
+    } catch (const ConfigError &e) {
+        throw ConfigError(std::string(e.what()) + RootKeyHint(config));
+    }
+    config.mount_source =
+        mount_given || has_radars ? MountSource::kGiven
+        : config.reader == ReaderKind::kRadarScenes || config.reader == ReaderKind::kNuScenes
+            ? MountSource::kDataSet
+            : MountSource::kIdentityAssumed;
     return config;
 }
 
@@ -336,6 +411,15 @@ void RequireInputs(const DatasetConfig &config) {
         if (fs::exists(input.path, ec)) continue;
         const std::string where =
             config.config_path.empty() ? "the description" : config.config_path;
+        if (config.path_base == PathBase::kDataOption && input.key == RootKey(config))
+            throw ConfigError(where + ": key '" + input.key + "': " + input.path +
+                              ": no such file or folder (written " + input.written + "; --data " +
+                              config.path_base_dir +
+                              " is taken as the data set's root: give the folder that holds " +
+                              (config.reader == ReaderKind::kNuScenes
+                                   ? config.nuscenes.version + "/ and sweeps/"
+                                   : std::string("data/sequence_N")) +
+                              ")");
         if (fs::path(input.written).is_absolute())
             throw ConfigError(where + ": key '" + input.key + "': " + input.path +
                               ": no such file or folder (an absolute path: fix the key)");
@@ -382,6 +466,7 @@ DatasetConfig ResolveDataset(const std::string &argument, const std::string &dat
         config.vehicle.base_height_m = mount.base_height_m;
         config.name = (path.has_filename() ? path : path.parent_path()).stem().string();
         config.reader = ReaderKind::kRosbag;
+        config.mount_source = MountSource::kHuginDefault;
         config.rosbag.path = argument;
         ApplyDatasetChoice(config, choice);  // refused: a recording has no scenes
         return config;

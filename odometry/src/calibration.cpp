@@ -24,8 +24,22 @@ void RequireSamples(std::size_t n, const char *what) {
 
 }  // namespace
 
+double LongRunVariance(const std::vector<double> &scores, int lag) {
+    const std::size_t n = scores.size();
+    double variance = 0.0;
+    for (const double s : scores) variance += s * s;
+    for (int l = 1; l <= lag && static_cast<std::size_t>(l) < n; ++l) {
+        double cross = 0.0;
+        for (std::size_t i = static_cast<std::size_t>(l); i < n; ++i)
+            cross += scores[i] * scores[i - static_cast<std::size_t>(l)];
+        variance += 2.0 * (1.0 - l / (lag + 1.0)) * cross;
+    }
+    return std::max(variance, 0.0);
+}
+
 RotationCalibration CalibrateRotation(const std::vector<Eigen::Vector3d> &v_radar,
-                                      const Eigen::Matrix3d &R_base_radar_guess) {
+                                      const Eigen::Matrix3d &R_base_radar_guess,
+                                      int correlation_lag) {
     RequireSamples(v_radar.size(), "rotation calibration");
     // Principal axis of the velocities: straight driving forward and backward puts every v_radar
     // on the line of the base X axis.
@@ -49,6 +63,20 @@ RotationCalibration CalibrateRotation(const std::vector<Eigen::Vector3d> &v_rada
     out.rms_residual_mps = std::sqrt(sum_perp2 / (2.0 * out.samples));
     // Small-angle least squares: each angle is a slope perp = angle * |v| with per-axis noise rms.
     out.sigma_rad = out.rms_residual_mps / std::sqrt(eig.eigenvalues()[2]);
+    if (correlation_lag > 0) {
+        // Each angle's score is perp_k * v_x: correlated errors add their cross terms.
+        double sum_u2 = 0.0;
+        std::vector<double> yaw_scores, pitch_scores;
+        for (const auto &v : v_radar) {
+            const Eigen::Vector3d w = out.R_base_radar * v;
+            sum_u2 += w.x() * w.x();
+            yaw_scores.push_back(w.y() * w.x());
+            pitch_scores.push_back(w.z() * w.x());
+        }
+        const double worst = std::max(LongRunVariance(yaw_scores, correlation_lag),
+                                      LongRunVariance(pitch_scores, correlation_lag));
+        out.sigma_rad = std::max(out.sigma_rad, std::sqrt(worst) / sum_u2);
+    }
     return out;
 }
 
@@ -82,7 +110,7 @@ RotationCalibration CalibrateRoll(const std::vector<Eigen::Vector3d> &v_radar,
 }
 
 SxCalibration CalibrateSx(const std::vector<Eigen::Vector3d> &v_sensor_base,
-                          const std::vector<double> &yaw_rate_base_radps) {
+                          const std::vector<double> &yaw_rate_base_radps, int correlation_lag) {
     if (v_sensor_base.size() != yaw_rate_base_radps.size())
         throw std::invalid_argument("s_x calibration: velocities and yaw rates differ in count");
     RequireSamples(v_sensor_base.size(), "s_x calibration");
@@ -120,6 +148,20 @@ SxCalibration CalibrateSx(const std::vector<Eigen::Vector3d> &v_sensor_base,
             keep[i] = k;
         }
         if (!changed) break;
+    }
+    if (correlation_lag > 0) {
+        // The inliers' scores omega * residual in time order, their correlation kept.
+        double sww = 0.0;
+        std::vector<double> scores;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!keep[i]) continue;
+            const double w = yaw_rate_base_radps[i];
+            sww += w * w;
+            scores.push_back(w * (v_sensor_base[i].y() - w * out.s_x_m));
+        }
+        if (sww > 0.0)
+            out.sigma_m =
+                std::max(out.sigma_m, std::sqrt(LongRunVariance(scores, correlation_lag)) / sww);
     }
     return out;
 }

@@ -3,6 +3,7 @@
 #include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <vector>
@@ -192,14 +193,18 @@ std::string FindSequenceFile(const std::string &name_or_path) {
         }
     }
     std::string known;
-    std::error_code ec;
-    for (const auto &entry : fs::directory_iterator(DORADO_SEQUENCES_DIR, ec)) {
-        if (entry.path().extension() == ".yaml") {
-            known += (known.empty() ? "" : ", ") + entry.path().stem().string();
-        }
-    }
+    for (const std::string &name : BuiltInSequences()) known += (known.empty() ? "" : ", ") + name;
     throw SequenceConfigError("--sequence '" + name_or_path +
                               "': no such file or built-in sequence (built-in: " + known + ")");
+}
+
+std::vector<std::string> BuiltInSequences() {
+    std::vector<std::string> names;
+    std::error_code ec;
+    for (const auto &entry : fs::directory_iterator(DORADO_SEQUENCES_DIR, ec))
+        if (entry.path().extension() == ".yaml") names.push_back(entry.path().stem().string());
+    std::sort(names.begin(), names.end());
+    return names;
 }
 
 }  // namespace dorado::sim

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "dorado/testing/scan_folder.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -56,30 +58,18 @@ class CmdData : public ::testing::Test {
     // A folder of two radars' scans (static points ahead, float32 x y z rcs v_r rows) and a
     // description of them, its paths relative to the description's folder.
     fs::path TwoRadarFolder(const std::string &second_radar_keys) const {
-        for (const char *radar : {"front", "left"}) {
-            fs::create_directories(dir_ / radar / "scans");
-            std::ofstream times(dir_ / radar / "times.txt");
-            for (int k = 0; k < 12; ++k) {
-                char name[32];
-                std::snprintf(name, sizeof(name), "%05d.bin", k);
-                std::ofstream scan(dir_ / radar / "scans" / name, std::ios::binary);
-                for (int i = 0; i < 20; ++i) {
-                    const float row[5] = {10.0f + i, -5.0f + 0.5f * i, 0.0f, 5.0f, -1.0f};
-                    scan.write(reinterpret_cast<const char *>(row), sizeof(row));
-                }
-                times << 10.0 + 0.1 * k << "\n";
-            }
-        }
+        for (const char *radar : {"front", "left"})
+            dorado::testing::WriteScanFolder(dir_ / radar, 12, 20, [](int i, float *v) {
+                v[0] = 10.0f + i, v[1] = -5.0f + 0.5f * i, v[2] = 0.0f, v[3] = 5.0f, v[4] = -1.0f;
+            });
         const fs::path description = dir_ / "two.yaml";
         std::ofstream(description)
-            << "name: two\nreader: folder\nfolder:\n  scans_dir: front/scans\n  extension: .bin\n"
-               "  timestamps_file: front/times.txt\n  columns: [x, y, z, rcs, v_r]\n"
-               "fields: {x: x, y: y, z: z, range: \"\", azimuth: \"\", elevation: \"\", power: "
-               "rcs, doppler: v_r}\n"
-               "radars:\n"
-               "  - {name: front, scans_dir: front/scans, timestamps_file: front/times.txt,\n"
-               "     T_base_radar: {translation_m: [1, 0, 0]}}\n"
-               "  - {name: left, scans_dir: left/scans, "
+            << "name: two\n"
+            << dorado::testing::kFrontFolderKeys
+            "radars:\n"
+            "  - {name: front, scans_dir: front/scans, timestamps_file: front/times.txt,\n"
+            "     T_base_radar: {translation_m: [1, 0, 0]}}\n"
+            "  - {name: left, scans_dir: left/scans, "
             << second_radar_keys << "\n     T_base_radar: {translation_m: [0, 1, 0]}}\n";
         return description;
     }

@@ -359,7 +359,8 @@ TEST_F(CmdFaults, AbsentTopicIsOneClearError) {
                                  ": topic '/imu/absent' is not in the bag (rosbag.imu_topic); "
                                  "topics:\n  " +
                                  kRadarTopic +
-                                 " [sensor_msgs/PointCloud2]\n  /imu/data [sensor_msgs/Imu]\n";
+                                 " [sensor_msgs/PointCloud2]\n  /imu/data [sensor_msgs/Imu]; " +
+                                 (dir_ / "x").string() + " was left as it was\n";
     const std::string yaml = (dir_ / "absent_topic.yaml").string();
     for (const std::string &command : {"odometry " + yaml + " --out " + (dir_ / "x").string(),
                                        "map " + yaml + " --out " + (dir_ / "x").string()}) {

@@ -50,8 +50,8 @@ TEST(BenchPlan, MatrixHasOneRunPerSequenceAndMethodAfterItsSimulation) {
     EXPECT_EQ(runs[3].method, "odom_imu+doppler");
     EXPECT_EQ(runs[3].job.args.back(), "imu+doppler");
     const std::vector<std::string> map_args{
-        "map",      "/out/data/s1/dataset.yaml", "--prior", "doppler", "--out", "{out}",
-        "--config", "/cfg/mapper.yaml"};
+        "map",   "/out/data/s1/dataset.yaml", "--prior",  "doppler",         "--out",
+        "{out}", "--accept-implausible",      "--config", "/cfg/mapper.yaml"};
     EXPECT_EQ(runs[5].job.args, map_args);
     EXPECT_EQ(runs[5].job.out_dir, "/out/runs/s1/map_doppler");
     // Existing data: paths relative to the config file, no dependency.
@@ -107,9 +107,15 @@ map_priors: [none]
     EXPECT_EQ(config.sequences[2].data, "");
     const auto runs = PlanBenchmark(config, "/out");
     ASSERT_EQ(runs.size(), 6u);
-    const std::vector<std::string> odometry{"odometry", "/cfg/a.yaml",        "--out",
-                                            "{out}",    "--method",           "doppler",
-                                            "--data",   "/recordings/drive_a"};
+    const std::vector<std::string> odometry{"odometry",
+                                            "/cfg/a.yaml",
+                                            "--out",
+                                            "{out}",
+                                            "--accept-implausible",
+                                            "--method",
+                                            "doppler",
+                                            "--data",
+                                            "/recordings/drive_a"};
     EXPECT_EQ(runs[0].job.args, odometry);
     EXPECT_EQ(runs[1].job.args.back(), "/recordings/drive_a");  // map_none
     EXPECT_EQ(runs[3].job.args.back(), "/abs/drive_b");

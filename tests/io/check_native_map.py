@@ -6,8 +6,10 @@ from the converted extract folders (reader folder with a radars: list).
   check_native_map.py DORADO SHARED_REAL_DIR OUT_DIR
 Prints per data set the poses and the largest position difference; fails when the stamps differ or
 a position differs by more than 1 mm, or when a bad --scene / --sequence / --radars does not exit 1
-with a message naming what there is. Exit 77 (skipped) without the shared drives
-(DORADO_SHARED_REAL names another place).
+with a message naming what there is. The shipped descriptions (configs/native/*.yaml) run on the
+copies with `--data ROOT` and `--scene` / `--sequence` alone, from another working directory, and
+give the same trajectories. Exit 77 (skipped) without the shared drives (DORADO_SHARED_REAL names
+another place).
 """
 import os
 import subprocess
@@ -18,9 +20,20 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
+def map_run(dorado, args, run, cwd=None):
+    """`dorado map ARGS --prior doppler --out RUN`: its trajectory, or None after saying why."""
+    result = subprocess.run([dorado, "map"] + args + ["--prior", "doppler", "--out", run], cwd=cwd,
+                            capture_output=True, text=True)
+    if result.returncode != 0:
+        print("dorado map %s: exit %d: %s" % (" ".join(args), result.returncode,
+                                              result.stderr.strip().splitlines()[-1:]))
+        return None
+    return np.loadtxt(os.path.join(run, "trajectory.tum"), ndmin=2)
+
+
 def main(dorado, shared, out):
     dorado, out = os.path.abspath(dorado), os.path.abspath(out)
-    shared = os.environ.get("DORADO_SHARED_REAL", shared)
+    shared = os.path.abspath(os.environ.get("DORADO_SHARED_REAL", shared))
     if not os.path.isfile(os.path.join(shared, "nuscenes_scene-0061", "mounts.txt")):
         print("skipped: the shared real drives are absent (%s)" % shared)
         return 77
@@ -30,11 +43,24 @@ def main(dorado, shared, out):
     for data_set in ("nuscenes", "radarscenes"):
         trajectories = {}
         for layout in ("native", "extracts"):
-            run = os.path.join(out, "%s_%s_map" % (data_set, layout))
-            subprocess.run([dorado, "map", os.path.join(out, "%s_%s.yaml" % (data_set, layout)),
-                            "--prior", "doppler", "--out", run], check=True,
-                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-            trajectories[layout] = np.loadtxt(os.path.join(run, "trajectory.tum"), ndmin=2)
+            trajectories[layout] = map_run(
+                dorado, [os.path.join(out, "%s_%s.yaml" % (data_set, layout))],
+                os.path.join(out, "%s_%s_map" % (data_set, layout)))
+        # The shipped description, the release's root as --data, from another folder.
+        shipped = os.path.join(HERE, "..", "..", "configs", "native", data_set + ".yaml")
+        root, choice = ((os.path.join(out, "nuscenes"), ["--scene", "scene-0061"])
+                        if data_set == "nuscenes" else
+                        (os.path.join(out, "RadarScenes"), ["--sequence", "105"]))
+        os.makedirs(os.path.join(out, "elsewhere"), exist_ok=True)
+        trajectories["shipped"] = map_run(dorado, [shipped, "--data", root] + choice,
+                                          os.path.join(out, "%s_shipped_map" % data_set),
+                                          cwd=os.path.join(out, "elsewhere"))
+        if any(t is None for t in trajectories.values()):
+            failed = True
+            continue
+        if not np.array_equal(trajectories["shipped"], trajectories["native"]):
+            print("%s: the shipped description with --data gives another trajectory" % data_set)
+            failed = True
         a, b = trajectories["native"], trajectories["extracts"]
         if a.shape != b.shape or not np.array_equal(a[:, 0], b[:, 0]):
             print("%s: %d poses native, %d from the extracts, or other stamps"

@@ -119,6 +119,14 @@ struct DatasetInput {
     std::string path;     ///< as resolved (the member's value)
 };
 
+/// Where a description's radar mount (extrinsics.T_base_radar) comes from.
+enum class MountSource {
+    kGiven,           ///< the description's extrinsics.T_base_radar (or its radars: list)
+    kDataSet,         ///< the data set's own calibration files (readers radarscenes, nuscenes)
+    kHuginDefault,    ///< a recording without a description: the paper's Hugin launch file
+    kIdentityAssumed  ///< no key: the radar at the base origin, unrotated
+};
+
 struct DatasetConfig {
     std::string name;         ///< for messages and reports
     std::string config_path;  ///< the YAML file it came from (empty when built in code)
@@ -141,6 +149,8 @@ struct DatasetConfig {
     RadarSensorModel radar;
     /// Several radars on one vehicle (empty: one radar, `folder:` + `extrinsics:`).
     std::vector<RadarStream> radars;
+    /// Where extrinsics.T_base_radar came from, for the commands to say when it was assumed.
+    MountSource mount_source = MountSource::kGiven;
 };
 
 /// The description with `folder:` and `extrinsics.T_base_radar` set to radars[index]'s (to read

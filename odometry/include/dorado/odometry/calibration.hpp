@@ -20,9 +20,13 @@ struct RotationCalibration {
 /// the principal axis of the velocities, signed to agree with `R_base_radar_guess`; the roll about
 /// X is left as in the guess (step 2 determines it). Throws std::invalid_argument with fewer than
 /// 3 samples or no motion.
+/// @p correlation_lag > 0: the samples' errors are taken as correlated over that many neighbours
+/// (slip, vibration, a slowly wandering ground truth): sigma_rad is then the Newey-West estimate,
+/// never below the independent-noise one.
 [[nodiscard]] RotationCalibration CalibrateRotation(
     const std::vector<Eigen::Vector3d> &v_radar,
-    const Eigen::Matrix3d &R_base_radar_guess = Eigen::Matrix3d::Identity());
+    const Eigen::Matrix3d &R_base_radar_guess = Eigen::Matrix3d::Identity(),
+    int correlation_lag = 0);
 
 /// Step 2: from radar velocities recorded while driving freely (with turns) on flat ground, the
 /// roll about the base X axis that zeroes the base Z velocity, applied on top of `R_base_radar`
@@ -44,7 +48,13 @@ struct SxCalibration {
 /// yaw rate in the base frame; the kinematic model says v_sy = omega_z s_x (eq. 3 with
 /// omega_x = 0). Least squares through the origin with iterative 3-sigma (MAD) rejection.
 /// Throws std::invalid_argument on mismatched sizes, fewer than 3 samples or no yaw motion.
+/// @p correlation_lag as for CalibrateRotation (sigma_m from the inliers' correlated residuals).
 [[nodiscard]] SxCalibration CalibrateSx(const std::vector<Eigen::Vector3d> &v_sensor_base,
-                                        const std::vector<double> &yaw_rate_base_radps);
+                                        const std::vector<double> &yaw_rate_base_radps,
+                                        int correlation_lag = 0);
+
+/// The Newey-West (Bartlett) long-run variance of a sum of scores: sum_i s_i^2 + 2 sum over lags
+/// l = 1..lag of (1 - l / (lag + 1)) sum_i s_i s_{i-l}; the plain sum of squares for lag 0.
+[[nodiscard]] double LongRunVariance(const std::vector<double> &scores, int lag);
 
 }  // namespace dorado::odometry

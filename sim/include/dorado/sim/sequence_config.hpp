@@ -183,4 +183,8 @@ struct SequenceConfig {
 /// configs/sequences/NAME.yaml in the working directory and in the source tree.
 [[nodiscard]] std::string FindSequenceFile(const std::string &name_or_path);
 
+/// The built-in sequences' names (configs/sequences/*.yaml in the source tree), sorted: what
+/// `dorado simulate --help` lists and FindSequenceFile's error names.
+[[nodiscard]] std::vector<std::string> BuiltInSequences();
+
 }  // namespace dorado::sim
