@@ -17,16 +17,16 @@ void LoopClosureConfig::Validate() const {
     graph.Validate();
     auto non_negative = [](double v, const char *key) {
         if (!(v >= 0.0) || !std::isfinite(v))
-            throw std::invalid_argument(std::string("loop_closure.") + key + " must be >= 0");
+            throw std::invalid_argument(std::string("loop_closure.") + key + ": must be >= 0");
     };
     non_negative(min_loop_path_m, "min_loop_path_m");
     non_negative(place_radius_m, "place_radius_m");
     non_negative(gate_sigmas, "gate_sigmas");
     non_negative(max_consistency_chi2, "max_consistency_chi2");
     if (max_verifications < 1)
-        throw std::invalid_argument("loop_closure.max_verifications must be >= 1");
+        throw std::invalid_argument("loop_closure.max_verifications: must be >= 1");
     if (!(injected_false_fraction >= 0.0 && injected_false_fraction <= 1.0))
-        throw std::invalid_argument("--inject-false-loops must be in [0, 1]");
+        throw std::invalid_argument("--inject-false-loops: must be in [0, 1]");
 }
 
 std::string VerdictText(const LoopCandidate &candidate) {

@@ -19,7 +19,7 @@ namespace dorado::loops {
 void VerificationConfig::Validate() const {
     auto positive = [](double v, const char *key) {
         if (!(v > 0.0) || !std::isfinite(v))
-            throw std::invalid_argument(std::string("loop_closure.") + key + " must be > 0");
+            throw std::invalid_argument(std::string("loop_closure.") + key + ": must be > 0");
     };
     positive(initial_threshold_m, "verify_initial_threshold_m");
     positive(final_threshold_m, "verify_final_threshold_m");
@@ -29,16 +29,16 @@ void VerificationConfig::Validate() const {
     positive(max_rms_m, "verify_max_rms_m");
     positive(floor_sigma_translation_m, "verify_floor_sigma_translation_m");
     positive(floor_sigma_rotation_rad, "verify_floor_sigma_rotation_rad");
-    if (max_iterations < 1) throw std::invalid_argument("loop_closure.verify_max_iterations must be >= 1");
+    if (max_iterations < 1) throw std::invalid_argument("loop_closure.verify_max_iterations: must be >= 1");
     if (final_threshold_m > initial_threshold_m)
         throw std::invalid_argument(
-            "loop_closure.verify_final_threshold_m must not exceed verify_initial_threshold_m");
+            "loop_closure.verify_final_threshold_m: must not exceed verify_initial_threshold_m");
     if (!(min_overlap >= 0.0 && min_overlap <= 1.0))
-        throw std::invalid_argument("loop_closure.verify_min_overlap must be in [0, 1]");
+        throw std::invalid_argument("loop_closure.verify_min_overlap: must be in [0, 1]");
     if (min_correspondences < 6)
-        throw std::invalid_argument("loop_closure.verify_min_correspondences must be >= 6");
+        throw std::invalid_argument("loop_closure.verify_min_correspondences: must be >= 6");
     if (!(min_observability >= 0.0 && min_observability <= 1.0))
-        throw std::invalid_argument("loop_closure.verify_min_observability must be in [0, 1]");
+        throw std::invalid_argument("loop_closure.verify_min_observability: must be in [0, 1]");
 }
 
 const char *ToString(VerificationFailure failure) {

@@ -15,7 +15,7 @@ namespace dorado::loops {
 void PlaceConfig::Validate() const {
     auto positive = [](double v, const char *key) {
         if (!(v > 0.0) || !std::isfinite(v))
-            throw std::invalid_argument(std::string("loop_closure.") + key + " must be > 0");
+            throw std::invalid_argument(std::string("loop_closure.") + key + ": must be > 0");
     };
     positive(image_cell_m, "place_image_cell_m");
     positive(image_radius_m, "place_image_radius_m");
@@ -25,10 +25,10 @@ void PlaceConfig::Validate() const {
         throw std::invalid_argument(
             "loop_closure.place_image_radius_m / place_image_cell_m: the image would exceed 4000 "
             "pixels a side");
-    if (max_features < 10) throw std::invalid_argument("loop_closure.place_max_features must be >= 10");
+    if (max_features < 10) throw std::invalid_argument("loop_closure.place_max_features: must be >= 10");
     if (!(ratio_test > 0.0 && ratio_test <= 1.0))
-        throw std::invalid_argument("loop_closure.place_ratio_test must be in (0, 1]");
-    if (min_inliers < 3) throw std::invalid_argument("loop_closure.place_min_inliers must be >= 3");
+        throw std::invalid_argument("loop_closure.place_ratio_test: must be in (0, 1]");
+    if (min_inliers < 3) throw std::invalid_argument("loop_closure.place_min_inliers: must be >= 3");
 }
 
 namespace {

@@ -14,11 +14,11 @@ namespace dorado::loops {
 
 void PoseGraphConfig::Validate() const {
     if (!(loop_loss_scale > 0.0) || !std::isfinite(loop_loss_scale))
-        throw std::invalid_argument("loop_closure.graph_loop_loss_scale must be > 0");
+        throw std::invalid_argument("loop_closure.graph_loop_loss_scale: must be > 0");
     if (!(switch_prior_sigma > 0.0) || !std::isfinite(switch_prior_sigma))
-        throw std::invalid_argument("loop_closure.graph_switch_prior_sigma must be > 0");
+        throw std::invalid_argument("loop_closure.graph_switch_prior_sigma: must be > 0");
     if (max_iterations < 1)
-        throw std::invalid_argument("loop_closure.graph_max_iterations must be >= 1");
+        throw std::invalid_argument("loop_closure.graph_max_iterations: must be >= 1");
 }
 
 int PoseGraph::AddNode(const Eigen::Isometry3d &T_world_node) {

@@ -26,6 +26,8 @@ DoradoNode::DoradoNode(ros::NodeHandle &node, NodeSettings settings)
         dynamic_pub_ = node.advertise<sensor_msgs::PointCloud2>("/dorado/dynamic_points", 5);
         local_map_pub_ = node.advertise<sensor_msgs::PointCloud2>("/dorado/local_map", 1, true);
     }
+    if (settings_.front_end.run_mapper && settings_.loop_closure.enabled)
+        loops_ = std::make_unique<LoopWorker>(settings_.loop_closure);
     last_report_ = last_local_map_ = Clock::now();
     worker_ = std::thread([this] { Work(); });
     // The ROS queue is long and the callback cheap: the node, not roscpp, decides what is dropped.
@@ -37,7 +39,9 @@ DoradoNode::DoradoNode(ros::NodeHandle &node, NodeSettings settings)
     ROS_INFO("dorado_ros: %s; radar %s -> /doppler_odom and TF %s -> %s%s%s%s",
              settings_.description.c_str(), settings_.input_topic.c_str(),
              settings_.tf_from_frame.c_str(), settings_.tf_to_frame.c_str(),
-             settings_.front_end.run_mapper ? "; mapper on, prior " : "; mapper off",
+             settings_.front_end.run_mapper
+                 ? (loops_ ? "; mapper and loop closure on, prior " : "; mapper on, prior ")
+                 : "; mapper off",
              settings_.front_end.run_mapper ? mapping::ToString(settings_.front_end.prior) : "",
              settings_.needs_imu ? ("; IMU " + settings_.imu_topic).c_str() : "");
 }
@@ -291,6 +295,7 @@ void DoradoNode::Shutdown() {
         wake_.notify_all();
     }
     if (worker_.joinable()) worker_.join();
+    if (loops_) loops_->Stop();
     cloud_sub_.shutdown();
     imu_sub_.shutdown();
     std::string dropped;

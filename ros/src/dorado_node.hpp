@@ -20,6 +20,7 @@
 #include "dorado/core/time.hpp"
 #include "dorado/frontend/radar_front_end.hpp"
 #include "live_input.hpp"
+#include "loop_worker.hpp"
 #include "node_settings.hpp"
 #include "pose_covariance.hpp"
 
@@ -89,6 +90,8 @@ class DoradoNode {
     bool imu_stalled_ = false;                        ///< worker only
     Clock::time_point last_report_, last_local_map_;
     std::thread worker_;
+    /// Loop closure on the written poses, in a thread of its own (mapper and loop_closure.enabled).
+    std::unique_ptr<LoopWorker> loops_;
 };
 
 }  // namespace dorado::ros_node

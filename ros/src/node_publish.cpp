@@ -77,10 +77,14 @@ void DoradoNode::Publish(const std_msgs::Header &header, const RadarScan &scan,
 
     // The mapper's newest (filtered) pose in the map frame, with its covariance (given the map,
     // see mapping::RegistrationResult::covariance), and map -> odom = T_map_base T_odom_base^-1.
+    // With loop closure the map frame is the corrected one: T_map_base = C T_world_base, C the
+    // loop closer's newest correction (read, never waited for: loop_worker.hpp).
     PublishWritten(result.registration.written);
+    if (loops_) loops_->Push(result.registration.written);
     std_msgs::Header map_header = header;
     map_header.frame_id = settings_.map_frame;
-    const Eigen::Isometry3d &T_map_base = result.T_world_base;
+    const Eigen::Isometry3d T_map_base =
+        loops_ ? Eigen::Isometry3d(loops_->Correction() * result.T_world_base) : result.T_world_base;
     nav_msgs::Odometry map_odom;
     map_odom.header = map_header;
     map_odom.child_frame_id = settings_.tf_to_frame;

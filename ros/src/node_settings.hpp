@@ -8,6 +8,7 @@
 
 #include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/io/dataset_config.hpp"
+#include "dorado/loops/loop_closer.hpp"
 #include "live_input.hpp"
 
 namespace ros {
@@ -19,6 +20,8 @@ namespace dorado::ros_node {
 struct NodeSettings {
     io::DatasetConfig dataset;           ///< field map, extrinsics, vehicle (the `config` YAML)
     frontend::FrontEndConfig front_end;  ///< odometry_config + mapper_config + the paper's keys
+    /// mapper_config's loop_closure section: with the mapper, map -> odom carries its correction.
+    loops::LoopClosureConfig loop_closure;
     std::string input_topic;             ///< PointCloud2
     std::string imu_topic;               ///< sensor_msgs/Imu, subscribed when the prior needs it
     bool needs_imu = false;
