@@ -1,4 +1,5 @@
 // A complete submap's loops: gate, describe, verify, check against the odometry (loop_closer.hpp).
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>

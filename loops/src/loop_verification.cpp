@@ -66,7 +66,19 @@ struct CandidateCloud {
     pcl::PointCloud<pcl::PointXYZ>::Ptr cloud{new pcl::PointCloud<pcl::PointXYZ>};
     pcl::KdTreeFLANN<pcl::PointXYZ> tree;
     std::vector<Eigen::Matrix3d> information;
+    // The directions a point's neighbourhood fixes (observability): its normal for a plane, the two
+    // across it for a line, every direction for a compact cluster.
+    std::vector<Eigen::Matrix3d> constrained;
 };
+
+// The directions a neighbourhood with these eigenvalues (ascending) and eigenvectors fixes.
+Eigen::Matrix3d ConstrainedDirections(const Eigen::Vector3d &lambda, const Eigen::Matrix3d &U) {
+    constexpr double kThin = 0.1;  // an extent below this fraction of the next one is flat
+    if (lambda(1) < kThin * lambda(2))  // a line along U.col(2)
+        return Eigen::Matrix3d::Identity() - U.col(2) * U.col(2).transpose();
+    if (lambda(0) < kThin * lambda(1)) return U.col(0) * U.col(0).transpose();  // a plane
+    return Eigen::Matrix3d::Identity();
+}
 
 void BuildCandidate(const Eigen::Matrix3Xf &points, const VerificationConfig &config,
                     CandidateCloud &out) {
@@ -79,6 +91,7 @@ void BuildCandidate(const Eigen::Matrix3Xf &points, const VerificationConfig &co
     const double inv_sigma2 = 1.0 / (config.point_sigma_m * config.point_sigma_m);
     const Eigen::Matrix3d isotropic = Eigen::Matrix3d::Identity() * inv_sigma2;
     out.information.assign(points.cols(), isotropic);
+    out.constrained.assign(points.cols(), Eigen::Matrix3d::Identity());
     std::vector<int> index(kNeighbours);
     std::vector<float> distance2(kNeighbours);
     for (Eigen::Index i = 0; i < points.cols(); ++i) {
@@ -95,12 +108,14 @@ void BuildCandidate(const Eigen::Matrix3Xf &points, const VerificationConfig &co
         const Eigen::Matrix3d &U = eigen.eigenvectors();
         const Eigen::Vector3d weights(1.0 / config.plane_flatness, 1.0, 1.0);
         out.information[i] = U * (weights * inv_sigma2).asDiagonal() * U.transpose();
+        out.constrained[i] = ConstrainedDirections(eigen.eigenvalues(), U);
     }
 }
 
 struct LinearSystem {
     Matrix6d H = Matrix6d::Zero();
     Vector6d b = Vector6d::Zero();
+    Matrix6d H_constrained = Matrix6d::Zero();  // sum J^T P J: the directions the structure fixes
     int correspondences = 0;
     double squared_distance = 0.0;   // sum |r|^2
     double mahalanobis = 0.0;        // sum r^T W r
@@ -134,6 +149,7 @@ LinearSystem Linearise(const CandidateCloud &candidate, const std::vector<Eigen:
         J.rightCols<3>() = -R * Hat(p);
         system.H += weight * J.transpose() * W * J;
         system.b += weight * J.transpose() * W * r;
+        system.H_constrained += J.transpose() * candidate.constrained[index[0]] * J;
         ++system.correspondences;
         system.squared_distance += r.squaredNorm();
         system.mahalanobis += chi2;
@@ -142,15 +158,21 @@ LinearSystem Linearise(const CandidateCloud &candidate, const std::vector<Eigen:
     return system;
 }
 
-// Smallest / largest eigenvalue of the information over x, y and yaw, the yaw in metres at the
-// points' RMS radius.
-double HorizontalObservability(const Matrix6d &H, double radius_m) {
+// Smallest / largest eigenvalue over x, y and yaw (the yaw in metres at the points' RMS radius) of
+// the information of the matched structure (planes fix their normal, lines the directions across
+// them): a corridor's walls leave the direction along them unobserved.
+double HorizontalObservability(const Matrix6d &H, const Eigen::Vector3d &centre, double radius_m) {
     const int axes[3] = {0, 1, 5};
     Eigen::Matrix3d block;
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) block(i, j) = H(axes[i], axes[j]);
+    // About the points' centre c instead of the anchor (a turn about a far anchor is mostly a
+    // shift): dt = dt_c + dyaw (c_y, -c_x), then the yaw in metres at the RMS radius.
+    Eigen::Matrix3d about_centre = Eigen::Matrix3d::Identity();
+    about_centre(0, 2) = centre.y();
+    about_centre(1, 2) = -centre.x();
     const Eigen::Vector3d scale(1.0, 1.0, 1.0 / std::max(radius_m, 1.0));
-    block = scale.asDiagonal() * block * scale.asDiagonal();
+    block = scale.asDiagonal() * about_centre.transpose() * block * about_centre * scale.asDiagonal();
     const Eigen::Vector3d eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(block).eigenvalues();
     return eigenvalues(2) > 0.0 ? std::max(eigenvalues(0), 0.0) / eigenvalues(2) : 0.0;
 }
@@ -223,7 +245,7 @@ Verification VerifyLoop(const Eigen::Matrix3Xf &candidate_points,
     result.rms_m = final_system.correspondences > 0
                        ? std::sqrt(final_system.squared_distance / final_system.correspondences)
                        : 0.0;
-    result.observability = HorizontalObservability(final_system.H, radius_m);
+    result.observability = HorizontalObservability(final_system.H_constrained, centre, radius_m);
     if (final_system.correspondences >= 6) result.information = EdgeInformation(final_system, config);
     if (!converged)
         result.failure = VerificationFailure::kNotConverged;

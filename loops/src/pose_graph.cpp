@@ -91,6 +91,10 @@ PoseGraphSolution PoseGraph::Optimize(const PoseGraphConfig &config) {
     options.max_num_iterations = config.max_iterations;
     options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
     options.num_threads = 1;
+    // A graph of a few hundred anchors solves in milliseconds: solve it to convergence.
+    options.function_tolerance = 1e-10;
+    options.gradient_tolerance = 1e-12;
+    options.parameter_tolerance = 1e-10;
     ceres::Solver::Summary summary;
     ceres::Solve(options, &problem, &summary);
     for (Node &node : nodes_) node.q_world.normalize();

@@ -70,7 +70,8 @@ TEST_F(PlaceTest, VerificationRecoversTheRelativePose) {
     // A guess 1.5 m and 4 deg off, as a place match gives.
     const Eigen::Isometry3d guess = T_first_second * Planar(1.0, -1.1, 4.0 * M_PI / 180.0);
     const Verification v = VerifyLoop(first, second, guess, config);
-    ASSERT_TRUE(v.accepted()) << ToString(v.failure) << " overlap " << v.overlap << " rms " << v.rms_m;
+    ASSERT_TRUE(v.accepted()) << ToString(v.failure) << " overlap " << v.overlap << " rms " << v.rms_m
+                              << " observability " << v.observability;
     const Vector6d error = LogSE3(T_first_second.inverse() * v.T_candidate_query);
     EXPECT_LT(error.head<2>().norm(), 0.1);
     EXPECT_LT(std::abs(error(5)), 0.3 * M_PI / 180.0);
@@ -95,7 +96,8 @@ TEST(PlaceDegeneracy, CorridorOfTwoWallsIsDegenerate) {
     Eigen::Matrix3Xf walls(3, static_cast<Eigen::Index>(points.size()));
     for (std::size_t i = 0; i < points.size(); ++i) walls.col(static_cast<Eigen::Index>(i)) = points[i];
     const Verification v = VerifyLoop(walls, walls, Planar(0.3, 0.2, 0.0), VerificationConfig{});
-    EXPECT_EQ(v.failure, VerificationFailure::kDegenerate) << ToString(v.failure);
+    EXPECT_EQ(v.failure, VerificationFailure::kDegenerate)
+        << ToString(v.failure) << " observability " << v.observability;
 }
 
 }  // namespace

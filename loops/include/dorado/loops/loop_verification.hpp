@@ -3,7 +3,8 @@
 /// A loop candidate verified by registration: the query submap's points registered onto the
 /// candidate's (both in their anchors' frames) from the place match's guess, by a Gauss-Newton
 /// ICP with GICP-style neighbourhood covariances (a soft point-to-plane distance), then judged by
-/// overlap, correspondences, fit and the observability of the horizontal directions. Its
+/// overlap, correspondences, fit and the observability of the horizontal directions (what the
+/// matched planes and lines fix: a corridor leaves the direction along it open). Its
 /// information about the relative pose is the registration's, counted once per map cell (points of
 /// one cell share their surface's error) and scaled by the residuals' own variance.
 
@@ -24,7 +25,8 @@ struct VerificationConfig {
     double min_overlap = 0.35;         ///< query points with a candidate point within final_threshold_m
     int min_correspondences = 150;
     double max_rms_m = 0.6;            ///< RMS distance of the correspondences
-    /// Smallest eigenvalue / largest of the information over (x, y, yaw * the points' RMS radius).
+    /// Smallest eigenvalue / largest over (x, y, yaw * the points' RMS radius) of the information
+    /// of the matched structure (a plane fixes its normal, a line the directions across it).
     double min_observability = 0.05;
     /// Added to the registration's covariance (1 sigma): the submaps' own error.
     double floor_sigma_translation_m = 0.05;

@@ -29,7 +29,9 @@ struct RelativePoseEdge {
 
 struct PoseGraphConfig {
     double loop_loss_scale = 3.0;      ///< Cauchy scale of a loop edge, in whitened units (sigmas)
-    double switch_prior_sigma = 1.0;   ///< a switch's prior (1 - s) / sigma: lower turns edges off sooner
+    /// A switch's prior (1 - s) / sigma: an edge stays on while the graph's cost of agreeing with
+    /// it stays below 1 / sigma^2 (0.2: 25, about the consistency gate's 22.5).
+    double switch_prior_sigma = 0.2;
     int max_iterations = 100;
     /// Throws std::invalid_argument naming the first bad key.
     void Validate() const;
