@@ -2,7 +2,8 @@
 /// @file loop_verification.hpp
 /// A loop candidate verified by registration: the query submap's points registered onto the
 /// candidate's (both in their anchors' frames) from the place match's guess, by a Gauss-Newton
-/// ICP with GICP-style neighbourhood covariances (a soft point-to-plane distance), then judged by
+/// ICP with GICP-style neighbourhood covariances (a soft point-to-plane distance), started at the
+/// height the points agree on (the odometry's height drifts by metres over a lap), then judged by
 /// overlap, correspondences, fit and the observability of the horizontal directions (what the
 /// matched planes and lines fix: a corridor leaves the direction along it open). Its
 /// information about the relative pose is the registration's, counted once per map cell (points of
@@ -16,7 +17,7 @@
 namespace dorado::loops {
 
 struct VerificationConfig {
-    int max_iterations = 30;
+    int max_iterations = 20;
     double initial_threshold_m = 3.0;  ///< correspondence distance of the first iterations ...
     double final_threshold_m = 1.0;    ///< ... shrinking to this one
     double point_sigma_m = 0.3;        ///< a point's position noise (the neighbourhoods' scale)
@@ -24,7 +25,7 @@ struct VerificationConfig {
     double cluster_m = 4.0;            ///< residuals of one such cell count as one measurement
     double min_overlap = 0.35;         ///< query points with a candidate point within final_threshold_m
     int min_correspondences = 150;
-    double max_rms_m = 0.6;            ///< RMS distance of the correspondences
+    double max_rms_m = 0.7;            ///< RMS distance of the correspondences
     /// Smallest eigenvalue / largest over (x, y, yaw * the points' RMS radius) of the information
     /// of the matched structure (a plane fixes its normal, a line the directions across it).
     double min_observability = 0.05;
