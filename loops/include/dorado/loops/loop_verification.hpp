@@ -17,12 +17,12 @@
 namespace dorado::loops {
 
 struct VerificationConfig {
-    int max_iterations = 20;
+    int max_iterations = 30;
     double initial_threshold_m = 3.0;  ///< correspondence distance of the first iterations ...
     double final_threshold_m = 1.0;    ///< ... shrinking to this one
     double point_sigma_m = 0.3;        ///< a point's position noise (the neighbourhoods' scale)
     double plane_flatness = 0.1;       ///< GICP eigenvalue of a neighbourhood's normal axis
-    double cluster_m = 4.0;            ///< residuals of one such cell count as one measurement
+    double cluster_m = 8.0;            ///< residuals of one such cell count as one measurement
     double min_overlap = 0.35;         ///< query points with a candidate point within final_threshold_m
     int min_correspondences = 150;
     double max_rms_m = 0.7;            ///< RMS distance of the correspondences
@@ -30,8 +30,8 @@ struct VerificationConfig {
     /// of the matched structure (a plane fixes its normal, a line the directions across it).
     double min_observability = 0.05;
     /// Added to the registration's covariance (1 sigma): the submaps' own error.
-    double floor_sigma_translation_m = 0.05;
-    double floor_sigma_rotation_rad = 0.002;
+    double floor_sigma_translation_m = 0.15;
+    double floor_sigma_rotation_rad = 0.003;
     void Validate() const;
 };
 
