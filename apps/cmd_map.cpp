@@ -2,8 +2,8 @@
 // section IV-C), the Doppler estimator's dynamic-point mask, a Doppler-aware registration and
 // the fixed-lag smoother whose poses are written, then closed into loops (loop_outputs.hpp).
 #include <cstdio>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "commands.hpp"
 #include "dorado/config/map_config.hpp"
@@ -11,7 +11,6 @@
 #include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/io/atomic_file.hpp"
 #include "dorado/io/dataset.hpp"
-#include "dorado/io/trajectory_io.hpp"
 #include "loop_outputs.hpp"
 #include "map_outputs.hpp"
 #include "multi_radar_map.hpp"
@@ -29,7 +28,7 @@ struct MapOptions {
     std::string data;  // --data DIR
     bool no_mask = false, masks = false, fixed_mounts = false, no_loops = false;
     double inject_false_loops = 0.0;  // robustness test: a fraction of submaps gets a false loop
-    io::DatasetChoice choice;  // --scene, --sequence
+    io::DatasetChoice choice;         // --scene, --sequence
 };
 
 // DIR/masks/NNNNNN.txt: what the map used of each point (the odometry's labels, and 3 for the
@@ -88,7 +87,7 @@ void RunMap(const MapOptions &opt) {
                 "dataset's radars: list add --radars first (or a radar's name)");
         odometry::PlanarTwistFilterConfig twist_filter;
         twist_filter.calibrate_mount_yaw = !opt.fixed_mounts;
-        RunMultiRadarMap(dataset, config, twist_filter, opt.out);
+        RunMultiRadarMap(dataset, config, loop_config, twist_filter, opt.out);
         return;
     }
     const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "map");
@@ -112,23 +111,11 @@ void RunMap(const MapOptions &opt) {
              });
     guard.ThrowIfNoScanUsed(loop.used(), reader->source());
 
-    const std::vector<mapping::WrittenPose> last = front_end.Finish();  // still in the smoother
-    outputs.AddWritten(last);
-    const Trajectory &written = front_end.trajectory();
-    if (loop_closure) {
-        loop_closure->Add(last);
-        loop_closure->Finish();
-        // trajectory.tum and the map corrected; the trajectory as written beside them.
-        io::WriteTum(opt.out + "/trajectory_uncorrected.tum", written);
-        const Trajectory corrected = loop_closure->CorrectedTrajectory();
-        const MapCorrection correction{loop_closure->Corrections(), loop_closure->AcceptedLoopsWorld()};
-        outputs.Write(opt.out, corrected, ReferencePath(dataset, corrected), &correction);
-        loop_closure->Write(opt.out);
-    } else {
-        outputs.Write(opt.out, written, ReferencePath(dataset, written));
-    }
+    const nlohmann::json loop_summary =
+        FinishMapRun(opt.out, dataset, front_end.Finish(), front_end.trajectory(), outputs,
+                     loop_closure ? &*loop_closure : nullptr);
     nlohmann::json summary = MapRunSummary(dataset.name, config, guard.stopped());
-    summary["loop_closure"] = loop_closure ? loop_closure->Summary() : nlohmann::json(false);
+    summary["loop_closure"] = loop_summary;
     summary.update({{"scans", loop.scans()},
                     {"scans_registered", loop.used()},
                     {"scans_skipped", loop.scans() - loop.used()},

@@ -7,7 +7,8 @@
 #include "dorado/core/time.hpp"
 #include "dorado/io/atomic_file.hpp"
 #include "dorado/io/csv_text.hpp"
-#include "map_outputs.hpp"
+#include "dorado/io/trajectory_io.hpp"
+#include "reference_path.hpp"
 
 namespace dorado::apps {
 namespace {
@@ -40,11 +41,11 @@ std::string CandidateRow(const loops::LoopCandidate &c, const loops::LoopCloser 
         const Matrix6d covariance = v.information.inverse();
         const Eigen::Vector3d rpy = RollPitchYaw(v.T_candidate_query.rotation());
         const Eigen::Vector3d t = v.T_candidate_query.translation();
-        n = std::snprintf(row, sizeof(row), "%.3f,%d,%.3f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%.3f,%.3f,",
-                          v.overlap, v.correspondences, v.rms_m, v.observability,
-                          std::sqrt(covariance(0, 0)), std::sqrt(covariance(1, 1)),
-                          std::sqrt(covariance(5, 5)) * kDeg, c.consistency_chi2, t.x(), t.y(),
-                          t.z(), rpy.z() * kDeg);
+        n = std::snprintf(row, sizeof(row),
+                          "%.3f,%d,%.3f,%.4f,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%.3f,%.3f,", v.overlap,
+                          v.correspondences, v.rms_m, v.observability, std::sqrt(covariance(0, 0)),
+                          std::sqrt(covariance(1, 1)), std::sqrt(covariance(5, 5)) * kDeg,
+                          c.consistency_chi2, t.x(), t.y(), t.z(), rpy.z() * kDeg);
         text.append(row, static_cast<std::size_t>(n));
     } else {
         text += ",,,,,,,,,,,,";
@@ -58,16 +59,35 @@ std::string CandidateRow(const loops::LoopCandidate &c, const loops::LoopCloser 
 
 }  // namespace
 
+nlohmann::json FinishMapRun(const std::string &out_dir, const io::DatasetConfig &dataset,
+                            const std::vector<mapping::WrittenPose> &last,
+                            const Trajectory &written, MapOutputs &outputs, LoopOutputs *loops) {
+    outputs.AddWritten(last);
+    if (loops == nullptr) {
+        outputs.Write(out_dir, written, ReferencePath(dataset, written));
+        return false;
+    }
+    loops->Add(last);
+    loops->Finish();
+    io::WriteTum(out_dir + "/trajectory_uncorrected.tum", written);
+    const Trajectory corrected = loops->CorrectedTrajectory();
+    const MapCorrection correction{loops->Corrections(), loops->AcceptedLoopsWorld()};
+    outputs.Write(out_dir, corrected, ReferencePath(dataset, corrected), &correction);
+    loops->Write(out_dir);
+    return loops->Summary();
+}
+
 std::string G2oText(const loops::PoseGraph &graph) {
-    std::string text = "# dorado's loop closure graph: one vertex per submap anchor (corrected), "
-                       "odometry and loop edges\n";
+    std::string text =
+        "# dorado's loop closure graph: one vertex per submap anchor (corrected), "
+        "odometry and loop edges\n";
     char line[1024];
     for (int i = 0; i < graph.nodes(); ++i) {
         const Eigen::Isometry3d T = graph.T_world_node(i);
         const Eigen::Quaterniond q(T.rotation());
-        std::snprintf(line, sizeof(line), "VERTEX_SE3:QUAT %d %.6f %.6f %.6f %.9f %.9f %.9f %.9f\n", i,
-                      T.translation().x(), T.translation().y(), T.translation().z(), q.x(), q.y(),
-                      q.z(), q.w());
+        std::snprintf(line, sizeof(line), "VERTEX_SE3:QUAT %d %.6f %.6f %.6f %.9f %.9f %.9f %.9f\n",
+                      i, T.translation().x(), T.translation().y(), T.translation().z(), q.x(),
+                      q.y(), q.z(), q.w());
         text += line;
     }
     if (graph.nodes() > 0) text += "FIX 0\n";

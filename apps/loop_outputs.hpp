@@ -11,8 +11,10 @@
 #include <string>
 #include <vector>
 
+#include "dorado/io/dataset_config.hpp"
 #include "dorado/loops/loop_closer.hpp"
 #include "map_image.hpp"
+#include "map_outputs.hpp"
 
 namespace dorado::apps {
 
@@ -26,7 +28,9 @@ class LoopOutputs {
     void Finish();
 
     /// Per written pose, in order: corrected T_world_base = correction * written T_world_base.
-    [[nodiscard]] std::vector<Eigen::Isometry3d> Corrections() const { return closer_.Corrections(); }
+    [[nodiscard]] std::vector<Eigen::Isometry3d> Corrections() const {
+        return closer_.Corrections();
+    }
     [[nodiscard]] Trajectory CorrectedTrajectory() const { return closer_.CorrectedTrajectory(); }
     /// The accepted loops as map.png draws them (the places' corrected centres).
     [[nodiscard]] std::vector<LoopEdge> AcceptedLoopsWorld() const;
@@ -45,6 +49,14 @@ class LoopOutputs {
     double path_m_ = 0.0;
     Eigen::Vector3d last_position_ = Eigen::Vector3d::Constant(NAN);
 };
+
+/// The end of a map run: the poses still in the smoother (`last`) into the outputs and the loop
+/// closer (none: no loop closure), then the files: trajectory.tum and the map as written, or with
+/// loop closure corrected, with trajectory_uncorrected.tum (`written`), loops.csv and graph.g2o.
+/// Returns summary.json's "loop_closure" (false without).
+nlohmann::json FinishMapRun(const std::string &out_dir, const io::DatasetConfig &dataset,
+                            const std::vector<mapping::WrittenPose> &last,
+                            const Trajectory &written, MapOutputs &outputs, LoopOutputs *loops);
 
 /// The graph in g2o's text format: VERTEX_SE3:QUAT per anchor (corrected), EDGE_SE3:QUAT per
 /// edge with its information converted to g2o's error [dp; vec(dq)] (the rotation rows doubled:

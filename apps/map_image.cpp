@@ -180,8 +180,7 @@ void WriteBirdsEyeImage(const std::string &path, const Eigen::Matrix3Xd &map_poi
         cv::circle(image, pixel(edge.from_world), 6, kLoopColour, 2, cv::LINE_AA);
         cv::circle(image, pixel(edge.to_world), 6, kLoopColour, 2, cv::LINE_AA);
     }
-    DrawLegend(image, !reference_world.empty(), !loop_edges_world.empty(), colour_span, z_lo,
-               z_hi);
+    DrawLegend(image, !reference_world.empty(), !loop_edges_world.empty(), colour_span, z_lo, z_hi);
     // Scale bar: a round length near a fifth of the width.
     const double target_m = 0.2 * width / px_per_m;
     const double bar_m = std::pow(10.0, std::floor(std::log10(std::max(target_m, 1e-3))));

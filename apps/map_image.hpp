@@ -17,12 +17,11 @@ struct LoopEdge {
 };
 
 /// Writes a PNG at `path`. reference_world: the reference trajectory in the same world (empty:
-/// none); loop_edges_world: the accepted loop closures (empty: none). max_side_px bounds the larger image side. Throws std::runtime_error naming the file
-/// when it cannot be written.
+/// none); loop_edges_world: the accepted loop closures (empty: none). max_side_px bounds the larger
+/// image side. Throws std::runtime_error naming the file when it cannot be written.
 void WriteBirdsEyeImage(const std::string &path, const Eigen::Matrix3Xd &map_points_world,
                         const std::vector<Eigen::Vector3d> &trajectory_world,
                         const std::vector<Eigen::Vector3d> &reference_world = {},
-                        const std::vector<LoopEdge> &loop_edges_world = {},
-                        int max_side_px = 1600);
+                        const std::vector<LoopEdge> &loop_edges_world = {}, int max_side_px = 1600);
 
 }  // namespace dorado::apps

@@ -52,7 +52,8 @@ class MapOutputs {
     [[nodiscard]] int fallbacks() const { return fallbacks_; }
     /// The map as written: every point the mapper added (world frame), each moved by its written
     /// pose's correction when there are corrections.
-    [[nodiscard]] Eigen::Matrix3Xd MapPoints(const std::vector<Eigen::Isometry3d> *corrections = nullptr) const;
+    [[nodiscard]] Eigen::Matrix3Xd MapPoints(
+        const std::vector<Eigen::Isometry3d> *corrections = nullptr) const;
 
   private:
     /// A map point as added (world frame, float: sub-millimetre within 100 km) and the written

@@ -8,6 +8,7 @@
 
 #include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/io/dataset_config.hpp"
+#include "dorado/loops/loop_closer.hpp"
 #include "dorado/odometry/planar_twist_filter.hpp"
 
 namespace dorado::apps {
@@ -16,6 +17,7 @@ namespace dorado::apps {
 /// map.*, scans.csv one row per sweep, covariance.csv, summary.json with "radars"). Throws
 /// io::ConfigError / io::DatasetError naming the file; StoppedEarly after writing what was done.
 void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEndConfig &config,
+                      const loops::LoopClosureConfig &loop_config,
                       const odometry::PlanarTwistFilterConfig &twist_filter,
                       const std::string &out_dir);
 

@@ -31,15 +31,21 @@ void LoopClosureConfig::Validate() const {
 
 std::string VerdictText(const LoopCandidate &candidate) {
     switch (candidate.verdict) {
-        case CandidateVerdict::kAccepted: return "accepted";
-        case CandidateVerdict::kNoPlaceMatch: return "no place match";
-        case CandidateVerdict::kNotVerified: return "over the verification budget";
+        case CandidateVerdict::kAccepted:
+            return "accepted";
+        case CandidateVerdict::kNoPlaceMatch:
+            return "no place match";
+        case CandidateVerdict::kNotVerified:
+            return "over the verification budget";
         case CandidateVerdict::kRegistration:
             return std::string("registration: ") +
                    (candidate.verification ? ToString(candidate.verification->failure) : "?");
-        case CandidateVerdict::kInconsistent: return "inconsistent with odometry";
-        case CandidateVerdict::kSwitchedOff: return "switched off by the graph";
-        case CandidateVerdict::kInjected: return "injected false loop";
+        case CandidateVerdict::kInconsistent:
+            return "inconsistent with odometry";
+        case CandidateVerdict::kSwitchedOff:
+            return "switched off by the graph";
+        case CandidateVerdict::kInjected:
+            return "injected false loop";
     }
     return "?";
 }

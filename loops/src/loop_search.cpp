@@ -22,7 +22,8 @@ double PlanarSigma(const Eigen::Isometry3d &T_ab, const Matrix6d &cov_ab,
     J.leftCols<3>() = T_ab.rotation();
     J.rightCols<3>() = -T_ab.rotation() * Hat(c_b);
     const Eigen::Matrix2d planar = (J * cov_ab * J.transpose()).topLeftCorner<2, 2>();
-    return std::sqrt(std::max(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(planar).eigenvalues()(1), 0.0));
+    return std::sqrt(
+        std::max(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(planar).eigenvalues()(1), 0.0));
 }
 
 // The starting guess of the verification: the place match's motion in the plane, with the
@@ -51,7 +52,8 @@ void LoopCloser::FindLoops(int query, LoopStep &step) {
     for (int c = query - 1; c >= 0; --c) {
         const Submap &older = submaps_[c].submap;
         const Eigen::Isometry3d T_next_query = T_world_anchor_written_[c + 1].inverse() * T_world_q;
-        chain_covariance = ComposeCovariance(older.to_next->covariance, T_next_query, chain_covariance);
+        chain_covariance =
+            ComposeCovariance(older.to_next->covariance, T_next_query, chain_covariance);
         const double path_between = q.submap.path_start_m() - older.path_end_m();
         if (path_between < config_.min_loop_path_m) continue;
         const Eigen::Isometry3d T_c_query = T_world_anchor_written_[c].inverse() * T_world_q;
@@ -62,9 +64,12 @@ void LoopCloser::FindLoops(int query, LoopStep &step) {
         candidate.candidate_stamp_ns = older.scans.front().stamp_ns;
         candidate.path_between_m = path_between;
         candidate.distance_m =
-            (graph_.T_world_node(c) * submaps_[c].centre_anchor - centre_q_corrected).head<2>().norm();
-        candidate.gate_m = config_.place_radius_m +
-                           config_.gate_sigmas * PlanarSigma(T_c_query, chain_covariance, q.centre_anchor);
+            (graph_.T_world_node(c) * submaps_[c].centre_anchor - centre_q_corrected)
+                .head<2>()
+                .norm();
+        candidate.gate_m =
+            config_.place_radius_m +
+            config_.gate_sigmas * PlanarSigma(T_c_query, chain_covariance, q.centre_anchor);
         if (candidate.distance_m > candidate.gate_m) continue;
         const auto detect_start = std::chrono::steady_clock::now();
         candidate.place = MatchPlaces(q.descriptor, submaps_[c].descriptor, config_.place);
@@ -138,10 +143,13 @@ void LoopCloser::InjectFalseLoop(int query, LoopStep &step) {
                 2.0 * config_.place_radius_m)
             far.push_back(c);
     if (far.empty()) return;
-    const int c = far[std::min<std::size_t>(far.size() - 1, static_cast<std::size_t>(unit(injection_random_) * far.size()))];
+    const int c = far[std::min<std::size_t>(
+        far.size() - 1, static_cast<std::size_t>(unit(injection_random_) * far.size()))];
     Eigen::Isometry3d T_false = Eigen::Isometry3d::Identity();
-    T_false.linear() = RotationFromRollPitchYaw({0.0, 0.0, (unit(injection_random_) - 0.5) * M_PI / 3.0});
-    T_false.translation() << (unit(injection_random_) - 0.5) * 20.0, (unit(injection_random_) - 0.5) * 20.0, 0.0;
+    T_false.linear() =
+        RotationFromRollPitchYaw({0.0, 0.0, (unit(injection_random_) - 0.5) * M_PI / 3.0});
+    T_false.translation() << (unit(injection_random_) - 0.5) * 20.0,
+        (unit(injection_random_) - 0.5) * 20.0, 0.0;
     RelativePoseEdge edge;
     edge.from = c;
     edge.to = query;
@@ -154,7 +162,8 @@ void LoopCloser::InjectFalseLoop(int query, LoopStep &step) {
     candidate.query_stamp_ns = q.submap.scans.front().stamp_ns;
     candidate.candidate_stamp_ns = submaps_[c].submap.scans.front().stamp_ns;
     candidate.path_between_m = q.submap.path_start_m() - submaps_[c].submap.path_end_m();
-    candidate.distance_m = (graph_.T_world_node(c) * submaps_[c].centre_anchor - centre_q).head<2>().norm();
+    candidate.distance_m =
+        (graph_.T_world_node(c) * submaps_[c].centre_anchor - centre_q).head<2>().norm();
     candidate.verdict = CandidateVerdict::kInjected;
     candidate.edge = graph_.AddEdge(edge);
     candidates_.push_back(candidate);

@@ -26,7 +26,8 @@ void VerificationConfig::Validate() const {
     positive(max_rms_m, "verify_max_rms_m");
     positive(floor_sigma_translation_m, "verify_floor_sigma_translation_m");
     positive(floor_sigma_rotation_rad, "verify_floor_sigma_rotation_rad");
-    if (max_iterations < 1) throw std::invalid_argument("loop_closure.verify_max_iterations: must be >= 1");
+    if (max_iterations < 1)
+        throw std::invalid_argument("loop_closure.verify_max_iterations: must be >= 1");
     if (final_threshold_m > initial_threshold_m)
         throw std::invalid_argument(
             "loop_closure.verify_final_threshold_m: must not exceed verify_initial_threshold_m");
@@ -40,13 +41,20 @@ void VerificationConfig::Validate() const {
 
 const char *ToString(VerificationFailure failure) {
     switch (failure) {
-        case VerificationFailure::kNone: return "";
-        case VerificationFailure::kTooFewPoints: return "too few points";
-        case VerificationFailure::kNotConverged: return "not converged";
-        case VerificationFailure::kLowOverlap: return "low overlap";
-        case VerificationFailure::kTooFewCorrespondences: return "too few correspondences";
-        case VerificationFailure::kBadFitness: return "bad fitness";
-        case VerificationFailure::kDegenerate: return "degenerate";
+        case VerificationFailure::kNone:
+            return "";
+        case VerificationFailure::kTooFewPoints:
+            return "too few points";
+        case VerificationFailure::kNotConverged:
+            return "not converged";
+        case VerificationFailure::kLowOverlap:
+            return "low overlap";
+        case VerificationFailure::kTooFewCorrespondences:
+            return "too few correspondences";
+        case VerificationFailure::kBadFitness:
+            return "bad fitness";
+        case VerificationFailure::kDegenerate:
+            return "degenerate";
     }
     return "?";
 }
@@ -70,7 +78,7 @@ using Matrix3x6 = Eigen::Matrix<double, 3, 6>;
 
 // The directions a neighbourhood with these eigenvalues (ascending) and eigenvectors fixes.
 Eigen::Matrix3d ConstrainedDirections(const Eigen::Vector3d &lambda, const Eigen::Matrix3d &U) {
-    constexpr double kThin = 0.1;  // an extent below this fraction of the next one is flat
+    constexpr double kThin = 0.1;       // an extent below this fraction of the next one is flat
     if (lambda(1) < kThin * lambda(2))  // a line along U.col(2)
         return Eigen::Matrix3d::Identity() - U.col(2) * U.col(2).transpose();
     if (lambda(0) < kThin * lambda(1)) return U.col(0) * U.col(0).transpose();  // a plane
@@ -188,7 +196,8 @@ double HorizontalObservability(const Matrix4d &H4, const Eigen::Vector3d &centre
     about_centre(1, 2) = -centre.x();
     const Eigen::Vector3d scale(1.0, 1.0, 1.0 / std::max(radius_m, 1.0));
     H = scale.asDiagonal() * about_centre.transpose() * H * about_centre * scale.asDiagonal();
-    const Eigen::Vector3d eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(H).eigenvalues();
+    const Eigen::Vector3d eigenvalues =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(H).eigenvalues();
     return eigenvalues(2) > 0.0 ? std::max(eigenvalues(0), 0.0) / eigenvalues(2) : 0.0;
 }
 
@@ -197,12 +206,14 @@ double HorizontalObservability(const Matrix4d &H4, const Eigen::Vector3d &centre
 Matrix6d EdgeInformation(const LinearSystem &system, const VerificationConfig &config) {
     const double per_cell =
         static_cast<double>(system.cells.size()) / std::max(system.correspondences, 1);
-    const double variance_scale = std::max(1.0, system.mahalanobis / (3.0 * system.correspondences));
+    const double variance_scale =
+        std::max(1.0, system.mahalanobis / (3.0 * system.correspondences));
     const Matrix4d H = system.H * per_cell / variance_scale;
     const Eigen::SelfAdjointEigenSolver<Matrix4d> eigen(H);
     const double largest = std::max(eigen.eigenvalues().maxCoeff(), 1e-12);
     const Vector4d inverse = eigen.eigenvalues().cwiseMax(largest * 1e-9).cwiseInverse();
-    Matrix4d covariance = eigen.eigenvectors() * inverse.asDiagonal() * eigen.eigenvectors().transpose();
+    Matrix4d covariance =
+        eigen.eigenvectors() * inverse.asDiagonal() * eigen.eigenvectors().transpose();
     const double t2 = config.floor_sigma_translation_m * config.floor_sigma_translation_m;
     const double r2 = config.floor_sigma_rotation_rad * config.floor_sigma_rotation_rad;
     for (int a = 0; a < kDof; ++a) covariance(a, a) += kAxes[a] < 3 ? t2 : r2;
@@ -212,15 +223,16 @@ Matrix6d EdgeInformation(const LinearSystem &system, const VerificationConfig &c
         for (int b = 0; b < kDof; ++b)
             information(kAxes[a], kAxes[b]) = 0.5 * (reduced(a, b) + reduced(b, a));
     for (int axis = 0; axis < 6; ++axis)
-        if (information(axis, axis) == 0.0) information(axis, axis) = 1.0 / (kHeldSigmaRad * kHeldSigmaRad);
+        if (information(axis, axis) == 0.0)
+            information(axis, axis) = 1.0 / (kHeldSigmaRad * kHeldSigmaRad);
     return information;
 }
 
 // The height offset that most query points agree with: each query point votes for the height
 // differences to the candidate points above or below it (within 0.5 m in the plane), in 0.25 m
 // bins; the fullest bin wins (the ground's and the walls' offsets agree, their spread does not).
-double HeightOffset(const std::vector<Eigen::Vector3d> &candidate, const std::vector<Eigen::Vector3d> &query,
-                    const Eigen::Isometry3d &T) {
+double HeightOffset(const std::vector<Eigen::Vector3d> &candidate,
+                    const std::vector<Eigen::Vector3d> &query, const Eigen::Isometry3d &T) {
     constexpr double kBinM = 0.25, kRangeM = 20.0, kColumnM = 0.5;
     std::vector<Eigen::Vector3d> flat(candidate);
     for (Eigen::Vector3d &p : flat) p.z() = 0.0;
@@ -281,8 +293,8 @@ Verification VerifyLoop(const Eigen::Matrix3Xf &candidate_points,
     const int shrink = std::max(1, config.max_iterations / 2);
     for (int iteration = 0; iteration < config.max_iterations; ++iteration) {
         const double alpha = std::min(1.0, static_cast<double>(iteration) / shrink);
-        const double threshold =
-            config.initial_threshold_m + alpha * (config.final_threshold_m - config.initial_threshold_m);
+        const double threshold = config.initial_threshold_m +
+                                 alpha * (config.final_threshold_m - config.initial_threshold_m);
         const LinearSystem system = Linearise(candidate, alpha < 1.0 ? coarse : fine, query, T,
                                               threshold, config.cluster_m);
         result.iterations = iteration + 1;
@@ -290,7 +302,8 @@ Verification VerifyLoop(const Eigen::Matrix3Xf &candidate_points,
         const Vector4d delta = -system.H.ldlt().solve(system.b);
         if (!delta.allFinite()) break;
         T = T * ExpSE3(Step(delta));
-        if (alpha >= 1.0 && Step(delta).head<3>().norm() < 1e-2 && Step(delta).tail<3>().norm() < 5e-4) {
+        if (alpha >= 1.0 && Step(delta).head<3>().norm() < 1e-2 &&
+            Step(delta).tail<3>().norm() < 5e-4) {
             converged = true;
             break;
         }
@@ -299,12 +312,14 @@ Verification VerifyLoop(const Eigen::Matrix3Xf &candidate_points,
     const LinearSystem final_system =
         Linearise(candidate, fine, query, T, config.final_threshold_m, config.cluster_m);
     result.correspondences = final_system.correspondences;
-    result.overlap = static_cast<double>(final_system.correspondences) / static_cast<double>(query.size());
+    result.overlap =
+        static_cast<double>(final_system.correspondences) / static_cast<double>(query.size());
     result.rms_m = final_system.correspondences > 0
                        ? std::sqrt(final_system.squared_distance / final_system.correspondences)
                        : 0.0;
     result.observability = HorizontalObservability(final_system.H_constrained, centre, radius_m);
-    if (final_system.correspondences >= 6) result.information = EdgeInformation(final_system, config);
+    if (final_system.correspondences >= 6)
+        result.information = EdgeInformation(final_system, config);
     if (!converged)
         result.failure = VerificationFailure::kNotConverged;
     else if (result.overlap < config.min_overlap)

@@ -25,10 +25,12 @@ void PlaceConfig::Validate() const {
         throw std::invalid_argument(
             "loop_closure.place_image_radius_m / place_image_cell_m: the image would exceed 4000 "
             "pixels a side");
-    if (max_features < 10) throw std::invalid_argument("loop_closure.place_max_features: must be >= 10");
+    if (max_features < 10)
+        throw std::invalid_argument("loop_closure.place_max_features: must be >= 10");
     if (!(ratio_test > 0.0 && ratio_test <= 1.0))
         throw std::invalid_argument("loop_closure.place_ratio_test: must be in (0, 1]");
-    if (min_inliers < 3) throw std::invalid_argument("loop_closure.place_min_inliers: must be >= 3");
+    if (min_inliers < 3)
+        throw std::invalid_argument("loop_closure.place_min_inliers: must be >= 3");
 }
 
 namespace {
@@ -42,8 +44,10 @@ cv::Mat DensityImage(const Eigen::Matrix3Xf &points_anchor, const Eigen::Vector2
     cv::Mat counts = cv::Mat::zeros(side, side, CV_32F);
     const float inv_cell = static_cast<float>(1.0 / config.image_cell_m);
     for (Eigen::Index i = 0; i < points_anchor.cols(); ++i) {
-        const int col = static_cast<int>(std::floor((points_anchor(0, i) - origin_anchor.x()) * inv_cell));
-        const int row = static_cast<int>(std::floor((origin_anchor.y() - points_anchor(1, i)) * inv_cell));
+        const int col =
+            static_cast<int>(std::floor((points_anchor(0, i) - origin_anchor.x()) * inv_cell));
+        const int row =
+            static_cast<int>(std::floor((origin_anchor.y() - points_anchor(1, i)) * inv_cell));
         if (col >= 0 && col < side && row >= 0 && row < side) counts.at<float>(row, col) += 1.0f;
     }
     cv::Mat log_counts;
@@ -69,8 +73,8 @@ PlaceDescriptor DescribePlace(const Eigen::Matrix3Xf &points_anchor, const Place
     const float radius = static_cast<float>(config.image_radius_m);
     const Eigen::Vector2f origin(centre.x() - radius, centre.y() + radius);  // the image's top-left
     const cv::Mat image = DensityImage(points_anchor, origin, config);
-    cv::Ptr<cv::ORB> orb = cv::ORB::create(config.max_features, 1.2f, 4, 15, 0, 2,
-                                           cv::ORB::HARRIS_SCORE, 15, 10);
+    cv::Ptr<cv::ORB> orb =
+        cv::ORB::create(config.max_features, 1.2f, 4, 15, 0, 2, cv::ORB::HARRIS_SCORE, 15, 10);
     std::vector<cv::KeyPoint> keypoints;
     cv::Mat descriptors;
     orb->detectAndCompute(image, cv::noArray(), keypoints, descriptors);

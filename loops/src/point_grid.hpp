@@ -44,7 +44,8 @@ class PointGrid {
             if (d2 <= max_d2) found.emplace_back(d2, i);
         });
         const std::size_t n = std::min(k, found.size());
-        std::partial_sort(found.begin(), found.begin() + static_cast<std::ptrdiff_t>(n), found.end());
+        std::partial_sort(found.begin(), found.begin() + static_cast<std::ptrdiff_t>(n),
+                          found.end());
         std::vector<int> nearest(n);
         for (std::size_t j = 0; j < n; ++j) nearest[j] = found[j].second;
         return nearest;

@@ -27,7 +27,9 @@ Matrix6d ComposeCovariance(const Matrix6d &cov_ab, const Eigen::Isometry3d &T_bc
     return adjoint_inverse * cov_ab * adjoint_inverse.transpose() + cov_bc;
 }
 
-SubmapBuilder::SubmapBuilder(const SubmapConfig &config) : config_(config) { config_.Validate(); }
+SubmapBuilder::SubmapBuilder(const SubmapConfig &config) : config_(config) {
+    config_.Validate();
+}
 
 bool SubmapBuilder::StartsNewSubmap(const Eigen::Isometry3d &T_world_base, double path_m) const {
     if (!open_) return true;
@@ -69,8 +71,8 @@ std::optional<Submap> SubmapBuilder::Add(const mapping::WrittenPose &pose) {
         covariance_anchor_last_ =
             ComposeCovariance(covariance_anchor_last_, T_last_base, pose.covariance);
     }
-    open_->scans.push_back({pose.stamp_ns, open_->T_world_anchor.inverse() * pose.T_world_base,
-                            path_m_});
+    open_->scans.push_back(
+        {pose.stamp_ns, open_->T_world_anchor.inverse() * pose.T_world_base, path_m_});
     AddPoints(pose.map_points_added_world);
     T_world_last_ = pose.T_world_base;
     started_ = true;

@@ -5,7 +5,9 @@ namespace dorado::ros_node {
 LoopWorker::LoopWorker(const loops::LoopClosureConfig &config)
     : closer_(config), thread_([this] { Run(); }) {}
 
-LoopWorker::~LoopWorker() { Stop(); }
+LoopWorker::~LoopWorker() {
+    Stop();
+}
 
 void LoopWorker::Stop() {
     {

@@ -84,7 +84,8 @@ void DoradoNode::Publish(const std_msgs::Header &header, const RadarScan &scan,
     std_msgs::Header map_header = header;
     map_header.frame_id = settings_.map_frame;
     const Eigen::Isometry3d T_map_base =
-        loops_ ? Eigen::Isometry3d(loops_->Correction() * result.T_world_base) : result.T_world_base;
+        loops_ ? Eigen::Isometry3d(loops_->Correction() * result.T_world_base)
+               : result.T_world_base;
     nav_msgs::Odometry map_odom;
     map_odom.header = map_header;
     map_odom.child_frame_id = settings_.tf_to_frame;

@@ -22,8 +22,8 @@ struct NodeSettings {
     frontend::FrontEndConfig front_end;  ///< odometry_config + mapper_config + the paper's keys
     /// mapper_config's loop_closure section: with the mapper, map -> odom carries its correction.
     loops::LoopClosureConfig loop_closure;
-    std::string input_topic;             ///< PointCloud2
-    std::string imu_topic;               ///< sensor_msgs/Imu, subscribed when the prior needs it
+    std::string input_topic;  ///< PointCloud2
+    std::string imu_topic;    ///< sensor_msgs/Imu, subscribed when the prior needs it
     bool needs_imu = false;
     std::string tf_from_frame = "odom";  ///< REP 105's odom frame: /doppler_odom's
     std::string map_frame = "map";       ///< REP 105's map frame: /dorado/map_odom's, map -> odom

@@ -59,12 +59,14 @@ struct StreetWorld {
         std::vector<Eigen::Vector3d> seen;
         for (const Eigen::Vector3d &p_world : points) {
             const Eigen::Vector3d p = T_base_world * p_world;
-            if (p.head<2>().norm() > 50.0 || p.x() <= 0.0 || std::abs(std::atan2(p.y(), p.x())) > M_PI / 3.0)
+            if (p.head<2>().norm() > 50.0 || p.x() <= 0.0 ||
+                std::abs(std::atan2(p.y(), p.x())) > M_PI / 3.0)
                 continue;
             seen.push_back(p + Eigen::Vector3d(noise(random), noise(random), noise(random)));
         }
         Eigen::Matrix3Xd out(3, static_cast<Eigen::Index>(seen.size()));
-        for (std::size_t i = 0; i < seen.size(); ++i) out.col(static_cast<Eigen::Index>(i)) = seen[i];
+        for (std::size_t i = 0; i < seen.size(); ++i)
+            out.col(static_cast<Eigen::Index>(i)) = seen[i];
         return out;
     }
 };

@@ -27,14 +27,17 @@ void Drive(LoopRun &run) {
 double MaxError(const std::vector<Eigen::Isometry3d> &truth, const Trajectory &estimate) {
     double worst = 0.0;
     for (std::size_t k = 0; k < truth.size(); ++k)
-        worst = std::max(worst, (estimate.poses()[k].T_world_body.translation() - truth[k].translation()).norm());
+        worst = std::max(
+            worst,
+            (estimate.poses()[k].T_world_body.translation() - truth[k].translation()).norm());
     return worst;
 }
 
 double MaxWrittenError(const LoopRun &run) {
     double worst = 0.0;
     for (std::size_t k = 0; k < run.truth.size(); ++k)
-        worst = std::max(worst, (run.written[k].T_world_base.translation() - run.truth[k].translation()).norm());
+        worst = std::max(
+            worst, (run.written[k].T_world_base.translation() - run.truth[k].translation()).norm());
     return worst;
 }
 
@@ -75,7 +78,7 @@ TEST(LoopCloser, TwoLapsOfABlockCloseTheirLoops) {
     ExpectAcceptedLoopsTrue(run);
     const double written = MaxWrittenError(run);
     const double corrected = MaxError(run.truth, run.closer.CorrectedTrajectory());
-    EXPECT_GT(written, 2.0);  // the drive drifts ...
+    EXPECT_GT(written, 2.0);              // the drive drifts ...
     EXPECT_LT(corrected, 0.3 * written);  // ... and its loops take most of it away
 }
 
@@ -108,7 +111,9 @@ TEST(LoopCloser, RepeatedStreetAcceptsNoLoop) {
     // one of the first, but lies 200 m away.
     const test::StreetWorld world =
         test::StreetWorld::Make(9, 0.0, 200.0, -60.0, 60.0, {}, {0.0}, 2, 200.0);
-    LoopRun run{LoopCloser(LoopClosureConfig{}), {}, test::PathThrough({{0.0, 0.0}, {400.0, 0.0}}, 1, false)};
+    LoopRun run{LoopCloser(LoopClosureConfig{}),
+                {},
+                test::PathThrough({{0.0, 0.0}, {400.0, 0.0}}, 1, false)};
     run.written = test::DriftingDrive(world, run.truth, 1e-4, 23);
     Drive(run);
     EXPECT_EQ(run.closer.loops_accepted(), 0);

@@ -31,7 +31,8 @@ Eigen::Matrix3Xf SubmapPoints(const test::StreetWorld &world, double start_x,
             points.push_back((T_anchor_base * seen.col(i)).cast<float>());
     }
     Eigen::Matrix3Xf out(3, static_cast<Eigen::Index>(points.size()));
-    for (std::size_t i = 0; i < points.size(); ++i) out.col(static_cast<Eigen::Index>(i)) = points[i];
+    for (std::size_t i = 0; i < points.size(); ++i)
+        out.col(static_cast<Eigen::Index>(i)) = points[i];
     return out;
 }
 
@@ -70,18 +71,20 @@ TEST_F(PlaceTest, VerificationRecoversTheRelativePose) {
     // A guess 1.5 m and 4 deg off, as a place match gives.
     const Eigen::Isometry3d guess = T_first_second * Planar(1.0, -1.1, 4.0 * M_PI / 180.0);
     const Verification v = VerifyLoop(first, second, guess, config);
-    ASSERT_TRUE(v.accepted()) << ToString(v.failure) << " overlap " << v.overlap << " rms " << v.rms_m
-                              << " observability " << v.observability;
+    ASSERT_TRUE(v.accepted()) << ToString(v.failure) << " overlap " << v.overlap << " rms "
+                              << v.rms_m << " observability " << v.observability;
     const Vector6d error = LogSE3(T_first_second.inverse() * v.T_candidate_query);
     EXPECT_LT(error.head<2>().norm(), 0.1);
     EXPECT_LT(std::abs(error(5)), 0.3 * M_PI / 180.0);
     // Its covariance is honest about the error it made (a loose 5-sigma check per axis).
     const Matrix6d covariance = v.information.inverse();
-    for (int axis : {0, 1, 5}) EXPECT_LT(std::abs(error(axis)), 5.0 * std::sqrt(covariance(axis, axis)) + 0.02);
+    for (int axis : {0, 1, 5})
+        EXPECT_LT(std::abs(error(axis)), 5.0 * std::sqrt(covariance(axis, axis)) + 0.02);
 }
 
 TEST_F(PlaceTest, VerificationRejectsDifferentPlaces) {
-    const Verification v = VerifyLoop(first, elsewhere, Eigen::Isometry3d::Identity(), VerificationConfig{});
+    const Verification v =
+        VerifyLoop(first, elsewhere, Eigen::Isometry3d::Identity(), VerificationConfig{});
     EXPECT_FALSE(v.accepted());
 }
 
@@ -94,7 +97,8 @@ TEST(PlaceDegeneracy, CorridorOfTwoWallsIsDegenerate) {
             points.emplace_back(x, 6.0, z);
         }
     Eigen::Matrix3Xf walls(3, static_cast<Eigen::Index>(points.size()));
-    for (std::size_t i = 0; i < points.size(); ++i) walls.col(static_cast<Eigen::Index>(i)) = points[i];
+    for (std::size_t i = 0; i < points.size(); ++i)
+        walls.col(static_cast<Eigen::Index>(i)) = points[i];
     const Verification v = VerifyLoop(walls, walls, Planar(0.3, 0.2, 0.0), VerificationConfig{});
     EXPECT_EQ(v.failure, VerificationFailure::kDegenerate)
         << ToString(v.failure) << " observability " << v.observability;

@@ -24,8 +24,8 @@ Eigen::Isometry3d Planar(double x, double y, double yaw) {
     return T;
 }
 
-RelativePoseEdge Edge(int from, int to, const Eigen::Isometry3d &T, double sigma_m, double sigma_rad,
-                      EdgeKind kind = EdgeKind::kOdometry) {
+RelativePoseEdge Edge(int from, int to, const Eigen::Isometry3d &T, double sigma_m,
+                      double sigma_rad, EdgeKind kind = EdgeKind::kOdometry) {
     RelativePoseEdge edge;
     edge.from = from;
     edge.to = to;
@@ -59,12 +59,14 @@ TEST(PoseGraph, ConsistentRingReturnsToTheTruth) {
     std::mt19937 random(3);
     std::normal_distribution<double> noise(0.0, 0.3);
     std::vector<Eigen::Isometry3d> truth;
-    for (int k = 0; k < 12; ++k) truth.push_back(Planar(20.0 * std::cos(k * M_PI / 6.0),
-                                                        20.0 * std::sin(k * M_PI / 6.0),
-                                                        k * M_PI / 6.0 + M_PI / 2.0));
+    for (int k = 0; k < 12; ++k)
+        truth.push_back(Planar(20.0 * std::cos(k * M_PI / 6.0), 20.0 * std::sin(k * M_PI / 6.0),
+                               k * M_PI / 6.0 + M_PI / 2.0));
     PoseGraph graph;
     for (int k = 0; k < 12; ++k)
-        graph.AddNode(k == 0 ? truth[0] : truth[k] * Planar(noise(random), noise(random), 0.1 * noise(random)));
+        graph.AddNode(k == 0
+                          ? truth[0]
+                          : truth[k] * Planar(noise(random), noise(random), 0.1 * noise(random)));
     for (int k = 0; k < 12; ++k) {
         const int next = (k + 1) % 12;
         graph.AddEdge(Edge(k, next, truth[k].inverse() * truth[next], 0.1, 0.01));
@@ -102,7 +104,8 @@ TEST(PoseGraph, TrueLoopEdgeRemovesTheDrift) {
     // A bias the odometry's covariance allows (0.002 rad a step against 0.005 rad noise).
     const Square square(0.002);
     PoseGraph graph = square.Graph();
-    const double drift = (square.odometry[40].translation() - square.truth[40].translation()).norm();
+    const double drift =
+        (square.odometry[40].translation() - square.truth[40].translation()).norm();
     ASSERT_GT(drift, 5.0);
     const int loop = graph.AddEdge(
         Edge(0, 40, square.truth[0].inverse() * square.truth[40], 0.05, 0.002, EdgeKind::kLoop));
@@ -114,11 +117,13 @@ TEST(PoseGraph, TrueLoopEdgeRemovesTheDrift) {
 TEST(PoseGraph, FalseLoopEdgeIsSwitchedOffAndBendsNothing) {
     const Square square(0.0);
     PoseGraph graph = square.Graph();
-    const int loop = graph.AddEdge(Edge(0, 25, Planar(3.0, 8.0, 0.3), 0.05, 0.002, EdgeKind::kLoop));
+    const int loop =
+        graph.AddEdge(Edge(0, 25, Planar(3.0, 8.0, 0.3), 0.05, 0.002, EdgeKind::kLoop));
     graph.Optimize(PoseGraphConfig{});
     EXPECT_LT(graph.switch_value(loop), 0.5);
     for (int k = 0; k <= 40; ++k)
-        EXPECT_LT((graph.T_world_node(k).translation() - square.truth[k].translation()).norm(), 0.1) << k;
+        EXPECT_LT((graph.T_world_node(k).translation() - square.truth[k].translation()).norm(), 0.1)
+            << k;
 }
 
 TEST(PoseGraph, RejectsEdgesToUnknownNodesAndBadInformation) {

@@ -84,8 +84,9 @@ TEST(PoseGraphResiduals, SwitchPriorErrorTermJacobianMatchesNumericDifferences) 
 TEST(PoseGraphResiduals, ErrorIsTheRightPerturbationOfTheLaterNode) {
     std::unique_ptr<ceres::CostFunction> cost(
         PoseGraph3dErrorTerm::Create(kTabMeasured, Matrix6d::Identity()));
-    for (const Vector6d &xi : {Vector6d(Vector6d::Zero()), Xi(0.01, -0.02, 0.005, 0.002, -0.001, 0.003),
-                               Xi(-0.03, 0.0, 0.01, 0.0, 0.004, -0.002)}) {
+    for (const Vector6d &xi :
+         {Vector6d(Vector6d::Zero()), Xi(0.01, -0.02, 0.005, 0.002, -0.001, 0.003),
+          Xi(-0.03, 0.0, 0.01, 0.0, 0.004, -0.002)}) {
         Node a(kTworldA), b(kTworldA * kTabMeasured * ExpSE3(xi));
         const double *blocks[] = {a.p.data(), a.q.coeffs().data(), b.p.data(), b.q.coeffs().data()};
         Vector6d residual;

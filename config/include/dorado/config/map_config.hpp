@@ -21,8 +21,8 @@ struct MapCommandConfig {
     loops::LoopClosureConfig loop_closure;
 };
 
-/// The whole file's fields: mapper.*, prior.*, loop_closure.* (map.pcd / map.ply / map.png are the mapper's own
-/// map: its points as added, no output setting).
+/// The whole file's fields: mapper.*, prior.*, loop_closure.* (map.pcd / map.ply / map.png are the
+/// mapper's own map: its points as added, no output setting).
 template <typename Visitor>
 void VisitFields(MapCommandConfig &c, Visitor &&v) {
     VisitFields(c.mapper, Prefixed{"mapper.", v});

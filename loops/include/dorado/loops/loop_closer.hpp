@@ -34,8 +34,8 @@ struct LoopClosureConfig {
     PoseGraphConfig graph;
     double min_loop_path_m = 150.0;  ///< path between two submaps for a loop between them
     double place_radius_m = 25.0;    ///< submap centres this close (in truth) share a place
-    double gate_sigmas = 3.0;        ///< the drift ellipse: this many sigmas of the chain's position
-    int max_verifications = 3;       ///< descriptor matches verified per submap, most inliers first
+    double gate_sigmas = 3.0;   ///< the drift ellipse: this many sigmas of the chain's position
+    int max_verifications = 3;  ///< descriptor matches verified per submap, most inliers first
     /// Largest squared Mahalanobis distance between the loop's relative pose and the odometry
     /// chain's (6 dof; 22.5 is chi2's 99.9 % point).
     double max_consistency_chi2 = 22.5;
@@ -47,18 +47,18 @@ struct LoopClosureConfig {
 
 /// What became of a loop candidate, in the order the steps run.
 enum class CandidateVerdict {
-    kAccepted,          ///< "accepted": in the graph, its switch on
-    kNoPlaceMatch,      ///< "no place match": the descriptors do not match
-    kNotVerified,       ///< "over the verification budget": a better match was verified instead
-    kRegistration,      ///< the registration failed (Verification::failure says how)
-    kInconsistent,      ///< "inconsistent with odometry": beyond max_consistency_chi2
-    kSwitchedOff,       ///< "switched off by the graph": its switch went below 0.5
-    kInjected,          ///< "injected false loop" (robustness test)
+    kAccepted,      ///< "accepted": in the graph, its switch on
+    kNoPlaceMatch,  ///< "no place match": the descriptors do not match
+    kNotVerified,   ///< "over the verification budget": a better match was verified instead
+    kRegistration,  ///< the registration failed (Verification::failure says how)
+    kInconsistent,  ///< "inconsistent with odometry": beyond max_consistency_chi2
+    kSwitchedOff,   ///< "switched off by the graph": its switch went below 0.5
+    kInjected,      ///< "injected false loop" (robustness test)
 };
 
 struct LoopCandidate {
-    int query_submap = 0;      ///< the new submap
-    int candidate_submap = 0;  ///< the older one
+    int query_submap = 0;                                ///< the new submap
+    int candidate_submap = 0;                            ///< the older one
     int64_t query_stamp_ns = 0, candidate_stamp_ns = 0;  ///< their anchors'
     double path_between_m = 0.0;
     double distance_m = 0.0;  ///< between their centres, as estimated when the candidate was made
@@ -79,9 +79,9 @@ struct LoopStep {
     int candidates = 0;  ///< new candidates (appended to candidates())
     int accepted = 0;
     std::optional<PoseGraphSolution> solution;  ///< when the graph was solved
-    double describe_ms = 0.0;  ///< the closed submap's descriptor
-    double detect_ms = 0.0;    ///< gating and descriptor comparisons
-    double verify_ms = 0.0;    ///< registrations and the consistency checks
+    double describe_ms = 0.0;                   ///< the closed submap's descriptor
+    double detect_ms = 0.0;                     ///< gating and descriptor comparisons
+    double verify_ms = 0.0;                     ///< registrations and the consistency checks
 };
 
 class LoopCloser {
@@ -124,7 +124,7 @@ class LoopCloser {
 
     LoopClosureConfig config_;
     SubmapBuilder builder_;
-    std::vector<Place> submaps_;          // complete, in order (index = id)
+    std::vector<Place> submaps_;                             // complete, in order (index = id)
     std::vector<Eigen::Isometry3d> T_world_anchor_written_;  // every node's, open one included
     PoseGraph graph_;
     std::vector<LoopCandidate> candidates_;

@@ -55,8 +55,7 @@ void VisitFields(LoopClosureConfig &c, Visitor &&v) {
       "added to a loop's covariance [m]");
     v("verify_floor_sigma_rotation_rad", c.verification.floor_sigma_rotation_rad,
       "added to a loop's covariance [rad]");
-    v("graph_loop_loss_scale", c.graph.loop_loss_scale,
-      "Cauchy scale of a loop edge [sigmas]");
+    v("graph_loop_loss_scale", c.graph.loop_loss_scale, "Cauchy scale of a loop edge [sigmas]");
     v("graph_switch_prior_sigma", c.graph.switch_prior_sigma,
       "a loop edge's switch prior: lower turns disagreeing edges off sooner");
     v("graph_max_iterations", c.graph.max_iterations, "Ceres iterations of a graph solve");

@@ -23,9 +23,9 @@ struct VerificationConfig {
     double point_sigma_m = 0.3;        ///< a point's position noise (the neighbourhoods' scale)
     double plane_flatness = 0.1;       ///< GICP eigenvalue of a neighbourhood's normal axis
     double cluster_m = 8.0;            ///< residuals of one such cell count as one measurement
-    double min_overlap = 0.35;         ///< query points with a candidate point within final_threshold_m
+    double min_overlap = 0.35;  ///< query points with a candidate point within final_threshold_m
     int min_correspondences = 150;
-    double max_rms_m = 0.7;            ///< RMS distance of the correspondences
+    double max_rms_m = 0.7;  ///< RMS distance of the correspondences
     /// Smallest eigenvalue / largest over (x, y, yaw * the points' RMS radius) of the information
     /// of the matched structure (a plane fixes its normal, a line the directions across it).
     double min_observability = 0.05;

@@ -15,13 +15,13 @@
 namespace dorado::loops {
 
 struct PlaceConfig {
-    double image_cell_m = 0.5;    ///< bird's-eye image resolution
-    double image_radius_m = 60.0; ///< half the image's side, around the submap's points' centre
-    int max_features = 400;       ///< ORB corners per image
-    double ratio_test = 0.85;     ///< Lowe's ratio: best match's Hamming distance / second best
+    double image_cell_m = 0.5;     ///< bird's-eye image resolution
+    double image_radius_m = 60.0;  ///< half the image's side, around the submap's points' centre
+    int max_features = 400;        ///< ORB corners per image
+    double ratio_test = 0.85;      ///< Lowe's ratio: best match's Hamming distance / second best
     double ransac_threshold_m = 1.5;
-    int min_inliers = 10;         ///< RANSAC inliers for a descriptor match
-    double max_scale_error = 0.1; ///< |scale - 1| of the RANSAC similarity
+    int min_inliers = 10;          ///< RANSAC inliers for a descriptor match
+    double max_scale_error = 0.1;  ///< |scale - 1| of the RANSAC similarity
     void Validate() const;
 };
 

@@ -28,7 +28,7 @@ struct RelativePoseEdge {
 };
 
 struct PoseGraphConfig {
-    double loop_loss_scale = 3.0;      ///< Cauchy scale of a loop edge, in whitened units (sigmas)
+    double loop_loss_scale = 3.0;  ///< Cauchy scale of a loop edge, in whitened units (sigmas)
     /// A switch's prior (1 - s) / sigma: an edge stays on while the graph's cost of agreeing with
     /// it stays below 1 / sigma^2 (0.2: 25, about the consistency gate's 22.5).
     double switch_prior_sigma = 0.2;

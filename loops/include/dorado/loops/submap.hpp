@@ -19,9 +19,9 @@
 namespace dorado::loops {
 
 struct SubmapConfig {
-    double length_m = 40.0;     ///< a submap ends after this much path ...
-    double turn_deg = 100.0;    ///< ... or this much change of heading
-    double voxel_m = 0.5;       ///< its points (for recognition and verification): one per voxel
+    double length_m = 40.0;   ///< a submap ends after this much path ...
+    double turn_deg = 100.0;  ///< ... or this much change of heading
+    double voxel_m = 0.5;     ///< its points (for recognition and verification): one per voxel
     void Validate() const;
 };
 
