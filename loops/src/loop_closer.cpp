@@ -6,7 +6,9 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+
 #include <string>
+#include "dorado/core/require.hpp"
 
 namespace dorado::loops {
 
@@ -16,17 +18,15 @@ void LoopClosureConfig::Validate() const {
     verification.Validate();
     graph.Validate();
     auto non_negative = [](double v, const char *key) {
-        if (!(v >= 0.0) || !std::isfinite(v))
-            throw std::invalid_argument(std::string("loop_closure.") + key + ": must be >= 0");
+        Require(v >= 0.0 && std::isfinite(v), std::string("loop_closure.") + key, "must be >= 0");
     };
     non_negative(min_loop_path_m, "min_loop_path_m");
     non_negative(place_radius_m, "place_radius_m");
     non_negative(gate_sigmas, "gate_sigmas");
     non_negative(max_consistency_chi2, "max_consistency_chi2");
-    if (max_verifications < 1)
-        throw std::invalid_argument("loop_closure.max_verifications: must be >= 1");
-    if (!(injected_false_fraction >= 0.0 && injected_false_fraction <= 1.0))
-        throw std::invalid_argument("--inject-false-loops: must be in [0, 1]");
+    Require(max_verifications >= 1, "loop_closure.max_verifications", "must be >= 1");
+    Require(injected_false_fraction >= 0.0 && injected_false_fraction <= 1.0,
+            "--inject-false-loops", "must be in [0, 1]");
 }
 
 std::string VerdictText(const LoopCandidate &candidate) {

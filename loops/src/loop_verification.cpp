@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
 #include <unordered_set>
 #include <vector>
+#include "dorado/core/require.hpp"
 
 #include "dorado/mapping/voxel_key.hpp"
 #include "point_grid.hpp"
@@ -14,29 +16,25 @@
 namespace dorado::loops {
 
 void VerificationConfig::Validate() const {
-    auto positive = [](double v, const char *key) {
-        if (!(v > 0.0) || !std::isfinite(v))
-            throw std::invalid_argument(std::string("loop_closure.") + key + ": must be > 0");
+    const std::string k = "loop_closure.verify_";
+    auto positive = [&](double v, const char *key) {
+        Require(v > 0.0 && std::isfinite(v), k + key, "must be > 0");
     };
-    positive(initial_threshold_m, "verify_initial_threshold_m");
-    positive(final_threshold_m, "verify_final_threshold_m");
-    positive(point_sigma_m, "verify_point_sigma_m");
-    positive(plane_flatness, "verify_plane_flatness");
-    positive(cluster_m, "verify_cluster_m");
-    positive(max_rms_m, "verify_max_rms_m");
-    positive(floor_sigma_translation_m, "verify_floor_sigma_translation_m");
-    positive(floor_sigma_rotation_rad, "verify_floor_sigma_rotation_rad");
-    if (max_iterations < 1)
-        throw std::invalid_argument("loop_closure.verify_max_iterations: must be >= 1");
-    if (final_threshold_m > initial_threshold_m)
-        throw std::invalid_argument(
-            "loop_closure.verify_final_threshold_m: must not exceed verify_initial_threshold_m");
-    if (!(min_overlap >= 0.0 && min_overlap <= 1.0))
-        throw std::invalid_argument("loop_closure.verify_min_overlap: must be in [0, 1]");
-    if (min_correspondences < 6)
-        throw std::invalid_argument("loop_closure.verify_min_correspondences: must be >= 6");
-    if (!(min_observability >= 0.0 && min_observability <= 1.0))
-        throw std::invalid_argument("loop_closure.verify_min_observability: must be in [0, 1]");
+    positive(initial_threshold_m, "initial_threshold_m");
+    positive(final_threshold_m, "final_threshold_m");
+    positive(point_sigma_m, "point_sigma_m");
+    positive(plane_flatness, "plane_flatness");
+    positive(cluster_m, "cluster_m");
+    positive(max_rms_m, "max_rms_m");
+    positive(floor_sigma_translation_m, "floor_sigma_translation_m");
+    positive(floor_sigma_rotation_rad, "floor_sigma_rotation_rad");
+    Require(max_iterations >= 1, k + "max_iterations", "must be >= 1");
+    Require(final_threshold_m <= initial_threshold_m, k + "final_threshold_m",
+            "must not exceed verify_initial_threshold_m");
+    Require(min_overlap >= 0.0 && min_overlap <= 1.0, k + "min_overlap", "must be in [0, 1]");
+    Require(min_correspondences >= 6, k + "min_correspondences", "must be >= 6");
+    Require(min_observability >= 0.0 && min_observability <= 1.0, k + "min_observability",
+            "must be in [0, 1]");
 }
 
 const char *ToString(VerificationFailure failure) {

@@ -10,27 +10,22 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "dorado/core/require.hpp"
+
 namespace dorado::loops {
 
 void PlaceConfig::Validate() const {
-    auto positive = [](double v, const char *key) {
-        if (!(v > 0.0) || !std::isfinite(v))
-            throw std::invalid_argument(std::string("loop_closure.") + key + ": must be > 0");
-    };
-    positive(image_cell_m, "place_image_cell_m");
-    positive(image_radius_m, "place_image_radius_m");
-    positive(ransac_threshold_m, "place_ransac_threshold_m");
-    positive(max_scale_error, "place_max_scale_error");
-    if (image_radius_m / image_cell_m > 2000.0)
-        throw std::invalid_argument(
-            "loop_closure.place_image_radius_m / place_image_cell_m: the image would exceed 4000 "
-            "pixels a side");
-    if (max_features < 10)
-        throw std::invalid_argument("loop_closure.place_max_features: must be >= 10");
-    if (!(ratio_test > 0.0 && ratio_test <= 1.0))
-        throw std::invalid_argument("loop_closure.place_ratio_test: must be in (0, 1]");
-    if (min_inliers < 3)
-        throw std::invalid_argument("loop_closure.place_min_inliers: must be >= 3");
+    const std::string k = "loop_closure.place_";
+    Require(image_cell_m > 0.0 && std::isfinite(image_cell_m), k + "image_cell_m", "must be > 0");
+    Require(image_radius_m > 0.0 && image_radius_m / image_cell_m <= 2000.0, k + "image_radius_m",
+            "must be > 0 and at most 2000 place_image_cell_m (4000 pixels a side)");
+    Require(max_features >= 10, k + "max_features", "must be >= 10");
+    Require(ratio_test > 0.0 && ratio_test <= 1.0, k + "ratio_test", "must be in (0, 1]");
+    Require(ransac_threshold_m > 0.0 && std::isfinite(ransac_threshold_m), k + "ransac_threshold_m",
+            "must be > 0");
+    Require(min_inliers >= 3, k + "min_inliers", "must be >= 3");
+    Require(max_scale_error > 0.0 && std::isfinite(max_scale_error), k + "max_scale_error",
+            "must be > 0");
 }
 
 namespace {

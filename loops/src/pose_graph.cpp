@@ -6,19 +6,20 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+
 #include <string>
+#include "dorado/core/require.hpp"
 
 #include "pose_graph_residuals.hpp"
 
 namespace dorado::loops {
 
 void PoseGraphConfig::Validate() const {
-    if (!(loop_loss_scale > 0.0) || !std::isfinite(loop_loss_scale))
-        throw std::invalid_argument("loop_closure.graph_loop_loss_scale: must be > 0");
-    if (!(switch_prior_sigma > 0.0) || !std::isfinite(switch_prior_sigma))
-        throw std::invalid_argument("loop_closure.graph_switch_prior_sigma: must be > 0");
-    if (max_iterations < 1)
-        throw std::invalid_argument("loop_closure.graph_max_iterations: must be >= 1");
+    Require(loop_loss_scale > 0.0 && std::isfinite(loop_loss_scale),
+            "loop_closure.graph_loop_loss_scale", "must be > 0");
+    Require(switch_prior_sigma > 0.0 && std::isfinite(switch_prior_sigma),
+            "loop_closure.graph_switch_prior_sigma", "must be > 0");
+    Require(max_iterations >= 1, "loop_closure.graph_max_iterations", "must be >= 1");
 }
 
 int PoseGraph::AddNode(const Eigen::Isometry3d &T_world_node) {

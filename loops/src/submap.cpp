@@ -4,15 +4,16 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "dorado/core/require.hpp"
+
 namespace dorado::loops {
 
 void SubmapConfig::Validate() const {
-    if (!(length_m > 0.0) || !std::isfinite(length_m))
-        throw std::invalid_argument("loop_closure.submap_length_m: must be > 0");
-    if (!(turn_deg > 0.0) || !std::isfinite(turn_deg))
-        throw std::invalid_argument("loop_closure.submap_turn_deg: must be > 0");
-    if (!(voxel_m > 0.0) || !std::isfinite(voxel_m))
-        throw std::invalid_argument("loop_closure.submap_voxel_m: must be > 0");
+    Require(length_m > 0.0 && std::isfinite(length_m), "loop_closure.submap_length_m",
+            "must be > 0");
+    Require(turn_deg > 0.0 && std::isfinite(turn_deg), "loop_closure.submap_turn_deg",
+            "must be > 0");
+    Require(voxel_m > 0.0 && std::isfinite(voxel_m), "loop_closure.submap_voxel_m", "must be > 0");
 }
 
 Matrix6d ComposeCovariance(const Matrix6d &cov_ab, const Eigen::Isometry3d &T_bc,
