@@ -222,8 +222,8 @@ def main():
         others = [] if args.skip_kinds else list(pool.map(lambda ks: other_kind(args, *ks),
                                                           [(k, s) for k in args.kinds.split(',') for s in seeds]))
     print('## xsim loop (%s)\n' % ', '.join(map(str, seeds)))
-    print('| seed | revisit median / max [m] on | off | ATE on / off / 20 %% injected [m] | candidates | '
-          'accepted | false | worst loop error [m] | revisits >= 50 m closed | detect+verify per submap median / max [ms] |')
+    print('| seed | revisit median / max [m] on | off | ATE on / off / 20 % injected [m] | candidates | '
+          'accepted | false | worst loop error [m] | revisits >= 50 m closed | detect+verify per submap median / p95 [ms] |')
     print('|---|---|---|---|---|---|---|---|---|---|')
     for r in loops:
         print('| %d | %.2f / %.2f | %.2f / %.2f | %.2f / %.2f / %.2f | %d | %d | %d | %.2f | %d of %d | %.1f / %.1f |' % (
