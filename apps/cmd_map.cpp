@@ -1,8 +1,9 @@
 // `dorado map DATASET --prior P --out DIR`: radar scan-to-map mapping with a motion prior (paper
 // section IV-C), the Doppler estimator's dynamic-point mask, a Doppler-aware registration and
-// the fixed-lag smoother whose poses are written.
+// the fixed-lag smoother whose poses are written, then closed into loops (loop_outputs.hpp).
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "commands.hpp"
 #include "dorado/config/map_config.hpp"
@@ -10,6 +11,7 @@
 #include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/io/atomic_file.hpp"
 #include "dorado/io/dataset.hpp"
+#include "loop_outputs.hpp"
 #include "map_outputs.hpp"
 #include "multi_radar_map.hpp"
 #include "output_folder.hpp"
@@ -27,7 +29,9 @@ struct MapOptions {
     std::string dataset, out, config, odometry_config, prior = "doppler", radars = "all";
     std::string data;  // --data DIR
     bool no_mask = false, masks = false, fixed_mounts = false, accept_implausible = false;
-    io::DatasetChoice choice;  // --scene, --sequence
+    bool no_loops = false;
+    double inject_false_loops = 0.0;  // robustness test: a fraction of submaps gets a false loop
+    io::DatasetChoice choice;         // --scene, --sequence
 };
 
 // DIR/masks/NNNNNN.txt: what the map used of each point (the odometry's labels, and 3 for the
@@ -70,6 +74,10 @@ void RunMap(const MapOptions &opt) {
         opt.config.empty() ? dorado::config::MapCommandConfig{}
                            : dorado::config::LoadMapConfig(opt.config);
     frontend::FrontEndConfig config = FrontEndConfigOf(opt, map_config);
+    loops::LoopClosureConfig loop_config = map_config.loop_closure;
+    if (opt.no_loops) loop_config.enabled = false;
+    loop_config.injected_false_fraction = opt.inject_false_loops;
+    loop_config.Validate();
     config.odometry.ego_velocity.sensor = dataset.radar;  // the radar: noise, ambiguity
     const bool needs_imu = mapping::NeedsImu(config.prior);
     if (needs_imu && !HasImu(dataset))
@@ -84,7 +92,8 @@ void RunMap(const MapOptions &opt) {
         odometry::PlanarTwistFilterConfig twist_filter;
         twist_filter.calibrate_mount_yaw = !opt.fixed_mounts;
         CheckBeforeWork(dataset, opt.out);
-        RunMultiRadarMap(dataset, config, twist_filter, opt.out, opt.accept_implausible);
+        RunMultiRadarMap(dataset, config, loop_config, twist_filter, opt.out,
+                         opt.accept_implausible);
         return;
     }
     const nlohmann::json radars_used = ReportRadarsUsed(dataset, opt.dataset, "map");
@@ -98,6 +107,8 @@ void RunMap(const MapOptions &opt) {
     Progress progress("map", expected);
     MapOutputs outputs(config.mapper.map.voxel_size_m);
     PlausibilityWatch plausibility(dataset.radar.doppler_unambiguous_mps);
+    std::optional<LoopOutputs> loop_closure;
+    if (loop_config.enabled) loop_closure.emplace(loop_config);
     ScanLoop loop(front_end);
     StreamGuard guard;  // Ctrl-C or a reader error mid-stream: stop, write what was done
     loop.Run(*reader, guard, progress,
@@ -106,13 +117,16 @@ void RunMap(const MapOptions &opt) {
                  plausibility.AddPoints(event.scan);
                  plausibility.AddSpeed(event.stamp_ns, r.odometry.ego.valid(),
                                        r.odometry.ego.v_radar_mps.norm());
+                 if (loop_closure) loop_closure->Add(r.registration.written);
                  if (opt.masks && r.accepted) WriteMapMask(opt.out, event.scan_index, r);
              });
     guard.ThrowIfNoScanUsed(loop.used(), reader->source());
 
-    outputs.AddWritten(front_end.Finish());  // the poses still in the smoother
-    outputs.Write(opt.out, front_end.trajectory(), ReferencePath(dataset, front_end.trajectory()));
+    const nlohmann::json loop_summary =
+        FinishMapRun(opt.out, dataset, front_end.Finish(), front_end.trajectory(), outputs,
+                     loop_closure ? &*loop_closure : nullptr);
     nlohmann::json summary = MapRunSummary(dataset.name, config, guard.stopped());
+    summary["loop_closure"] = loop_summary;
     summary.update({{"scans", loop.scans()},
                     {"scans_registered", loop.used()},
                     {"scans_skipped", loop.scans() - loop.used()},
@@ -165,6 +179,13 @@ void RegisterMapCommand(CLI::App &app) {
                   "with several radars: keep the published mounts (default: each radar's mount "
                   "yaw is estimated while running, reported in summary.json and mounts.yaml)");
     cmd->add_flag("--no-mask", opt->no_mask, "keep the dynamic points (ablation)");
+    cmd->add_flag("--no-loops", opt->no_loops,
+                  "no loop closure (default: on, `loop_closure.enabled` in --config): "
+                  "trajectory.tum and the map as the smoother wrote them");
+    cmd->add_option("--inject-false-loops", opt->inject_false_loops,
+                    "robustness test: this fraction (0..1) of the submaps gets a false loop edge "
+                    "straight into the pose graph (marked in loops.csv)")
+        ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("--masks", opt->masks,
                   "write DIR/masks/NNNNNN.txt: per point 0 static, 1 dynamic, 2 filtered, 3 kept "
                   "out by the mover rules");

@@ -70,15 +70,18 @@ void DrawRamp(cv::Mat3b &image, cv::Point at, int width, int height, int colorma
     }
 }
 
+const cv::Scalar kLoopColour(0, 0, 230);  // red (BGR)
+
 /// The legend, top left: what each colour and line is.
-void DrawLegend(cv::Mat3b &image, bool with_reference, double colour_span, double z_lo,
-                double z_hi) {
+void DrawLegend(cv::Mat3b &image, bool with_reference, bool with_loops, double colour_span,
+                double z_lo, double z_hi) {
     char heights[96];
     std::snprintf(heights, sizeof(heights), "map points, colour: height %.1f .. %.1f m", z_lo,
                   z_hi);
     std::vector<std::string> rows{"estimate, colour: time (start .. end)"};
     if (with_reference) rows.emplace_back("reference: the dataset's ground truth");
     rows.emplace_back(heights);
+    if (with_loops) rows.emplace_back("loop closures: the places each accepted loop joins");
     constexpr int kRow = 26, kSwatch = 40, kPad = 10;
     const double font = 0.55;
     int text_width = 0;
@@ -98,6 +101,9 @@ void DrawLegend(cv::Mat3b &image, bool with_reference, double colour_span, doubl
         } else if (with_reference && i == 1) {
             DrawDashed(image, {swatch + cv::Point(0, 5), swatch + cv::Point(kSwatch, 5)},
                        cv::Scalar(0, 0, 0));
+        } else if (with_loops && i + 1 == rows.size()) {
+            cv::line(image, swatch + cv::Point(0, 5), swatch + cv::Point(kSwatch, 5), kLoopColour,
+                     2, cv::LINE_AA);
         } else {
             DrawRamp(image, swatch, kSwatch, 10, cv::COLORMAP_VIRIDIS, colour_span);
         }
@@ -110,7 +116,8 @@ void DrawLegend(cv::Mat3b &image, bool with_reference, double colour_span, doubl
 
 void WriteBirdsEyeImage(const std::string &path, const Eigen::Matrix3Xd &map_points_world,
                         const std::vector<Eigen::Vector3d> &trajectory_world,
-                        const std::vector<Eigen::Vector3d> &reference_world, int max_side_px) {
+                        const std::vector<Eigen::Vector3d> &reference_world,
+                        const std::vector<LoopEdge> &loop_edges_world, int max_side_px) {
     Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
     auto grow = [&](const Eigen::Vector3d &p) {
         lo = lo.cwiseMin(p.head<2>());
@@ -167,7 +174,13 @@ void WriteBirdsEyeImage(const std::string &path, const Eigen::Matrix3Xd &map_poi
     std::vector<cv::Point> reference_px;
     for (const auto &p : reference_world) reference_px.push_back(pixel(p));
     DrawDashed(image, reference_px, cv::Scalar(0, 0, 0));
-    DrawLegend(image, !reference_world.empty(), colour_span, z_lo, z_hi);
+    // The loop closures: a line between the two places each joins, a ring at each end.
+    for (const LoopEdge &edge : loop_edges_world) {
+        cv::line(image, pixel(edge.from_world), pixel(edge.to_world), kLoopColour, 2, cv::LINE_AA);
+        cv::circle(image, pixel(edge.from_world), 6, kLoopColour, 2, cv::LINE_AA);
+        cv::circle(image, pixel(edge.to_world), 6, kLoopColour, 2, cv::LINE_AA);
+    }
+    DrawLegend(image, !reference_world.empty(), !loop_edges_world.empty(), colour_span, z_lo, z_hi);
     // Scale bar: a round length near a fifth of the width.
     const double target_m = 0.2 * width / px_per_m;
     const double bar_m = std::pow(10.0, std::floor(std::log10(std::max(target_m, 1e-3))));

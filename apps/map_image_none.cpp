@@ -7,7 +7,7 @@ namespace dorado::apps {
 
 void WriteBirdsEyeImage(const std::string &path, const Eigen::Matrix3Xd &,
                         const std::vector<Eigen::Vector3d> &, const std::vector<Eigen::Vector3d> &,
-                        int) {
+                        const std::vector<LoopEdge> &, int) {
     std::cerr << "warning: " << path << " not written: dorado was built without OpenCV\n";
 }
 

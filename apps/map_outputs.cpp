@@ -52,11 +52,16 @@ nlohmann::json MapRunSummary(const std::string &dataset_name,
 
 MapOutputs::MapOutputs(double map_cell_m) : map_cell_m_(map_cell_m), csv_(kCsvHeader) {}
 
-Eigen::Matrix3Xd MapOutputs::MapPoints() const {
+Eigen::Matrix3Xd MapOutputs::MapPoints(const std::vector<Eigen::Isometry3d> *corrections) const {
     Eigen::Matrix3Xd points(3, static_cast<Eigen::Index>(map_point_count_));
     Eigen::Index n = 0;
     for (const auto &[key, cell] : map_points_world_)
-        for (const Eigen::Vector3d &p : cell) points.col(n++) = p;
+        for (const MapPoint &point : cell) {
+            const Eigen::Vector3d p_world = point.p_world.cast<double>();
+            points.col(n++) = corrections != nullptr && point.written_index < corrections->size()
+                                  ? Eigen::Vector3d((*corrections)[point.written_index] * p_world)
+                                  : p_world;
+        }
     return points;
 }
 
@@ -129,21 +134,28 @@ void MapOutputs::AddWritten(const std::vector<mapping::WrittenPose> &written) {
         const Eigen::Matrix3Xd &added = w.map_points_added_world;
         for (Eigen::Index i = 0; i < added.cols(); ++i) {
             map_points_world_[mapping::VoxelKeyOf(added.col(i), map_cell_m_)].push_back(
-                added.col(i));
+                {added.col(i).cast<float>(), written_});
             ++map_point_count_;
         }
         covariances_.Add(w);
         positions_.push_back(w.T_world_base.translation());
+        ++written_;
     }
 }
 
 void MapOutputs::Write(const std::string &out_dir, const Trajectory &trajectory,
-                       const std::vector<Eigen::Vector3d> &reference_world) const {
+                       const std::vector<Eigen::Vector3d> &reference_world,
+                       const MapCorrection *correction) const {
     io::WriteTum(out_dir + "/trajectory.tum", trajectory);
-    const Eigen::Matrix3Xd points = MapPoints();
+    const Eigen::Matrix3Xd points = MapPoints(correction ? &correction->corrections : nullptr);
     io::WritePcd(out_dir + "/map.pcd", points);
     io::WritePly(out_dir + "/map.ply", points);
-    WriteBirdsEyeImage(out_dir + "/map.png", points, positions_, reference_world);
+    std::vector<Eigen::Vector3d> positions = positions_;
+    if (correction != nullptr)
+        for (std::size_t i = 0; i < positions.size() && i < correction->corrections.size(); ++i)
+            positions[i] = correction->corrections[i] * positions[i];
+    WriteBirdsEyeImage(out_dir + "/map.png", points, positions, reference_world,
+                       correction ? correction->loops_world : std::vector<LoopEdge>{});
     io::WriteFileAtomically(out_dir + "/scans.csv", [&](std::ostream &os) { os << csv_; });
     io::WriteFileAtomically(out_dir + "/covariance.csv",
                             [&](std::ostream &os) { os << covariances_.csv(); });

@@ -13,8 +13,16 @@
 
 #include "covariance_table.hpp"
 #include "dorado/frontend/radar_front_end.hpp"
+#include "map_image.hpp"
 
 namespace dorado::apps {
+
+/// A loop closure's corrections of what was written (loop_outputs.hpp).
+struct MapCorrection {
+    /// Per written pose, in order: corrected = correction * as written (world frame).
+    std::vector<Eigen::Isometry3d> corrections;
+    std::vector<LoopEdge> loops_world;  ///< drawn on map.png
+};
 
 class MapOutputs {
   public:
@@ -29,9 +37,12 @@ class MapOutputs {
 
     /// Writes trajectory.tum, the map files, scans.csv and covariance.csv into out_dir.
     /// map.pcd holds the points in the order the mapper added them; map.png draws
-    /// reference_world (the dataset's ground truth in the map's world, empty: none) too.
+    /// reference_world (the dataset's ground truth in the map's world, empty: none) too. With a
+    /// correction (loop closure), `trajectory` is the corrected one, each point moves with the
+    /// pose that added it and map.png marks the loops.
     void Write(const std::string &out_dir, const Trajectory &trajectory,
-               const std::vector<Eigen::Vector3d> &reference_world = {}) const;
+               const std::vector<Eigen::Vector3d> &reference_world = {},
+               const MapCorrection *correction = nullptr) const;
 
     /// The counts and timings for summary.json: fallbacks and their reasons, prior
     /// substitutions, scans without a mask, time per scan and per stage (mean, median, p95).
@@ -39,13 +50,22 @@ class MapOutputs {
 
     [[nodiscard]] double mean_time_ms() const;
     [[nodiscard]] int fallbacks() const { return fallbacks_; }
-    /// The map as written: every point the mapper added (world frame).
-    [[nodiscard]] Eigen::Matrix3Xd MapPoints() const;
+    /// The map as written: every point the mapper added (world frame), each moved by its written
+    /// pose's correction when there are corrections.
+    [[nodiscard]] Eigen::Matrix3Xd MapPoints(
+        const std::vector<Eigen::Isometry3d> *corrections = nullptr) const;
 
   private:
+    /// A map point as added (world frame, float: sub-millimetre within 100 km) and the written
+    /// pose that added it (its index in the order written).
+    struct MapPoint {
+        Eigen::Vector3f p_world;
+        uint32_t written_index;
+    };
     /// The mapper's additions by map cell, less the cells it emptied (movers): its map as it was.
-    std::unordered_map<mapping::VoxelKey, std::vector<Eigen::Vector3d>, mapping::VoxelKeyHash>
+    std::unordered_map<mapping::VoxelKey, std::vector<MapPoint>, mapping::VoxelKeyHash>
         map_points_world_;
+    uint32_t written_ = 0;  ///< written poses so far
     std::size_t map_point_count_ = 0;
     double map_cell_m_ = 1.0;
     std::vector<Eigen::Vector3d> positions_;

@@ -3,12 +3,14 @@
 #include <cstdio>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "dorado/core/angles.hpp"
 #include "dorado/core/lie.hpp"
 #include "dorado/frontend/multi_radar_front_end.hpp"
 #include "dorado/io/atomic_file.hpp"
 #include "dorado/io/dataset.hpp"
+#include "loop_outputs.hpp"
 #include "map_outputs.hpp"
 #include "output_folder.hpp"
 #include "plausibility.hpp"
@@ -72,6 +74,7 @@ void WriteCalibratedMounts(const std::string &out_dir, const io::DatasetConfig &
 }
 
 void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEndConfig &config,
+                      const loops::LoopClosureConfig &loop_config,
                       const odometry::PlanarTwistFilterConfig &twist_filter,
                       const std::string &out_dir, bool accept_implausible) {
     frontend::MultiRadarFrontEnd front_end(config, Mounts(dataset), dataset.extrinsics.T_base_imu,
@@ -83,6 +86,8 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
         expected += CountRadarMessages(io::ForRadar(dataset, k), false, "");
     Progress progress("map", expected);
     MapOutputs outputs(config.mapper.map.voxel_size_m);
+    std::optional<LoopOutputs> loop_closure;
+    if (loop_config.enabled) loop_closure.emplace(loop_config);
     SkipLog skips;
     std::vector<RadarCounts> counts(dataset.radars.size());
     std::size_t scans = 0, sweeps = 0;
@@ -120,6 +125,7 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
         c.updates[step.twist_update]++;
         if (step.sweep) {
             outputs.Add(*step.sweep);
+            if (loop_closure) loop_closure->Add(step.sweep->registration.written);
             ++sweeps;
             radars_per_sweep += step.sweep_radars;
         }
@@ -128,8 +134,9 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
     skips.PrintSummary();
     guard.ThrowIfNoScanUsed(sweeps, reader->source());
 
-    outputs.AddWritten(front_end.Finish());  // the sweeps still in the smoother
-    outputs.Write(out_dir, front_end.trajectory(), ReferencePath(dataset, front_end.trajectory()));
+    const nlohmann::json loop_summary =
+        FinishMapRun(out_dir, dataset, front_end.Finish(), front_end.trajectory(), outputs,
+                     loop_closure ? &*loop_closure : nullptr);
     WriteCalibratedMounts(out_dir, dataset, front_end.twist_filter());
     nlohmann::json radars = nlohmann::json::array();
     for (std::size_t k = 0; k < dataset.radars.size(); ++k) {
@@ -142,6 +149,7 @@ void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEnd
         radars.back().update(MountRecord(front_end.twist_filter(), k));
     }
     nlohmann::json summary = MapRunSummary(dataset.name, config, guard.stopped());
+    summary["loop_closure"] = loop_summary;
     summary.update({{"scans", scans},
                     {"scans_registered", sweeps},
                     {"sweeps", sweeps},

@@ -8,6 +8,7 @@
 
 #include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/io/dataset_config.hpp"
+#include "dorado/loops/loop_closer.hpp"
 #include "dorado/odometry/planar_twist_filter.hpp"
 
 namespace dorado::apps {
@@ -17,6 +18,7 @@ namespace dorado::apps {
 /// io::ConfigError / io::DatasetError naming the file; StoppedEarly after writing what was done,
 /// or when the results are implausible and not @p accept_implausible (plausibility.hpp).
 void RunMultiRadarMap(const io::DatasetConfig &dataset, const frontend::FrontEndConfig &config,
+                      const loops::LoopClosureConfig &loop_config,
                       const odometry::PlanarTwistFilterConfig &twist_filter,
                       const std::string &out_dir, bool accept_implausible);
 

@@ -51,9 +51,19 @@ bool RemoveMasks(const fs::path &masks) {
 std::vector<std::string> KnownOutputs(OutputKind kind) {
     switch (kind) {
         case OutputKind::kRun:
-            return {"trajectory.tum", "summary.json", "velocities.csv", "scans.csv",
-                    "covariance.csv", "map.pcd",      "map.ply",        "map.png",
-                    "mounts.yaml",    "twist.csv"};
+            return {"trajectory.tum",
+                    "summary.json",
+                    "velocities.csv",
+                    "scans.csv",
+                    "covariance.csv",
+                    "map.pcd",
+                    "map.ply",
+                    "map.png",
+                    "mounts.yaml",
+                    "twist.csv",
+                    "loops.csv",
+                    "graph.g2o",
+                    "trajectory_uncorrected.tum"};
         case OutputKind::kBench: {
             std::vector<std::string> names{"results.md", "results.csv", "bench_runs.csv",
                                            "rpe_pairs.csv"};

@@ -1,6 +1,6 @@
 # install(EXPORT) of the libraries, found by `find_package(dorado)` (tests/consumer builds a project
 # against an installed copy): dorado::core and dorado::odometry (Eigen alone; all that
-# DORADO_CORE_ONLY builds), and otherwise dorado::mapping, frontend, io and config too. Included
+# DORADO_CORE_ONLY builds), and otherwise dorado::mapping, loops, frontend, io and config too. Included
 # once every library's target exists. The libraries are static: their private third-party links
 # reach the consumer as $<LINK_ONLY:...>, so doradoConfig.cmake finds those packages again.
 include(GNUInstallDirs)
@@ -13,7 +13,7 @@ if(DORADO_CORE_ONLY)
     set(DORADO_HAVE_${backend} OFF)
   endforeach()
 else()
-  set(DORADO_EXPORTED_MODULES core odometry mapping frontend io config)
+  set(DORADO_EXPORTED_MODULES core odometry mapping loops frontend io config)
   set(DORADO_HAVE_LIBRARIES ON)
 endif()
 set(DORADO_EXPORTED_TARGETS dorado_warnings)

@@ -22,6 +22,7 @@ MapCommandConfig LoadMapConfig(const std::string &yaml_path) {
     try {
         config.mapper.Validate();
         config.prior.Validate();
+        config.loop_closure.Validate();
     } catch (const std::invalid_argument &e) {
         throw KeyError(yaml_path, e);
     }

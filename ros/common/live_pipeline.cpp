@@ -26,12 +26,20 @@ LivePipeline::LivePipeline(NodeSettings settings, LiveSink &sink, std::string no
       stamps_(settings_.gaps),
       T_world_base_initial_(settings_.T_world_child_initial * settings_.T_base_child.inverse()) {
     front_end_.Reset(T_world_base_initial_);
+    if (settings_.front_end.run_mapper && settings_.loop_closure.enabled)
+        loops_ = std::make_unique<LoopWorker>(settings_.loop_closure);
     last_report_ = last_local_map_ = Clock::now();
     worker_ = std::thread([this] { Work(); });
 }
 
 LivePipeline::~LivePipeline() {
     Shutdown(false);
+}
+
+std::string LivePipeline::MapperDescription() const {
+    if (!settings_.front_end.run_mapper) return "; mapper off";
+    return std::string(loops_ ? "; mapper and loop closure on" : "; mapper on") + ", prior " +
+           mapping::ToString(settings_.front_end.prior);
 }
 
 void LivePipeline::Log(LogLevel level, const char *format, ...) {
@@ -319,6 +327,7 @@ void LivePipeline::Shutdown(bool finish) {
         wake_.notify_all();
     }
     if (worker_.joinable()) worker_.join();
+    if (loops_) loops_->Stop();
     if (finish) PublishWritten(front_end_.Finish());
     std::string dropped;
     for (const auto &[cause, count] : faults_.totals())

@@ -22,6 +22,7 @@
 #include "dorado/io/pointcloud_decoder.hpp"
 #include "live_input.hpp"
 #include "live_sink.hpp"
+#include "loop_worker.hpp"
 #include "node_settings.hpp"
 #include "pose_covariance.hpp"
 
@@ -65,6 +66,9 @@ class LivePipeline {
     void Shutdown(bool finish);
 
     [[nodiscard]] const NodeSettings &settings() const { return settings_; }
+    /// For the node's first line: "; mapper off", "; mapper on, prior P" or "; mapper and loop
+    /// closure on, prior P".
+    [[nodiscard]] std::string MapperDescription() const;
     [[nodiscard]] LiveCounts counts() const;
 
   private:
@@ -108,6 +112,8 @@ class LivePipeline {
     long long late_drops_ = 0, late_drops_seen_ = 0;  ///< a gap the node made is not a stall
     bool imu_stalled_ = false;                        ///< worker only
     Clock::time_point last_report_, last_local_map_;
+    /// Loop closure on the written poses, in a thread of its own (mapper and loop_closure.enabled).
+    std::unique_ptr<LoopWorker> loops_;
     std::thread worker_;
 };
 

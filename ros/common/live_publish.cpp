@@ -134,8 +134,13 @@ void LivePipeline::Publish(int64_t stamp_ns, const RadarScan &scan,
 
     // The mapper's newest (filtered) pose in the map frame, with its covariance (given the map,
     // see mapping::RegistrationResult::covariance), and map -> odom = T_map_base T_odom_base^-1.
+    // With loop closure the map frame is the corrected one: T_map_base = C T_world_base, C the
+    // loop closer's newest correction (read, never waited for: loop_worker.hpp).
     PublishWritten(result.registration.written);
-    const Eigen::Isometry3d &T_map_base = result.T_world_base;
+    if (loops_) loops_->Push(result.registration.written);
+    const Eigen::Isometry3d T_map_base =
+        loops_ ? Eigen::Isometry3d(loops_->Correction() * result.T_world_base)
+               : result.T_world_base;
     sink_.Publish(
         OdometryTopic::kMapOdom,
         {stamp_ns, settings_.map_frame, settings_.tf_to_frame, T_map_base * T_base_child,

@@ -103,6 +103,7 @@ void ReadFrontEndFiles(const Params &params, NodeSettings &s) {
         map_config = config::LoadMapConfig(path);
     s.front_end.mapper = map_config.mapper;
     s.front_end.prior_noise = map_config.prior;
+    s.loop_closure = map_config.loop_closure;
     s.front_end.run_mapper = false;
 }
 

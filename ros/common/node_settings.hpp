@@ -10,6 +10,7 @@
 
 #include "dorado/frontend/radar_front_end.hpp"
 #include "dorado/io/dataset_config.hpp"
+#include "dorado/loops/loop_closer.hpp"
 #include "live_input.hpp"
 #include "param_source.hpp"
 
@@ -18,8 +19,10 @@ namespace dorado::ros_node {
 struct NodeSettings {
     io::DatasetConfig dataset;           ///< field map, extrinsics, vehicle (the `config` YAML)
     frontend::FrontEndConfig front_end;  ///< odometry_config + mapper_config + the paper's keys
-    std::string input_topic;             ///< PointCloud2
-    std::string imu_topic;               ///< sensor_msgs/Imu, subscribed when the prior needs it
+    /// mapper_config's loop_closure section: with the mapper, map -> odom carries its correction.
+    loops::LoopClosureConfig loop_closure;
+    std::string input_topic;  ///< PointCloud2
+    std::string imu_topic;    ///< sensor_msgs/Imu, subscribed when the prior needs it
     bool needs_imu = false;
     std::string tf_from_frame = "odom";  ///< REP 105's odom frame: /doppler_odom's
     std::string map_frame = "map";       ///< REP 105's map frame: /dorado/map_odom's, map -> odom

@@ -34,10 +34,9 @@ DoradoNode::DoradoNode(ros::NodeHandle &node, NodeSettings settings) {
     if (s.needs_imu)
         imu_sub_ = node.subscribe(s.imu_topic, 1000, &DoradoNode::OnImu, this,
                                   ros::TransportHints().tcpNoDelay());
-    ROS_INFO("dorado_ros: %s; radar %s -> /doppler_odom and TF %s -> %s%s%s%s",
-             s.description.c_str(), s.input_topic.c_str(), s.tf_from_frame.c_str(),
-             s.tf_to_frame.c_str(), s.front_end.run_mapper ? "; mapper on, prior " : "; mapper off",
-             s.front_end.run_mapper ? mapping::ToString(s.front_end.prior) : "",
+    ROS_INFO("dorado_ros: %s; radar %s -> /doppler_odom and TF %s -> %s%s%s", s.description.c_str(),
+             s.input_topic.c_str(), s.tf_from_frame.c_str(), s.tf_to_frame.c_str(),
+             pipeline_->MapperDescription().c_str(),
              s.needs_imu ? ("; IMU " + s.imu_topic).c_str() : "");
 }
 

@@ -69,10 +69,7 @@ Ros2Node::Ros2Node(const RosArgs &args, ros_node::NodeSettings settings, bool us
     Log(ros_node::LogLevel::kInfo,
         name_ + ": " + s.description + "; domain " + std::to_string(participant_.domain()) +
             "; radar " + cloud_topic_ + " -> " + Remapped(args, "/doppler_odom") + " and /tf " +
-            s.tf_from_frame + " -> " + s.tf_to_frame +
-            (s.front_end.run_mapper
-                 ? "; mapper on, prior " + std::string(mapping::ToString(s.front_end.prior))
-                 : "; mapper off") +
+            s.tf_from_frame + " -> " + s.tf_to_frame + pipeline_->MapperDescription() +
             (s.needs_imu ? "; IMU " + imu_topic_ : "") + (use_sim_time_ ? "; use_sim_time" : ""));
 }
 

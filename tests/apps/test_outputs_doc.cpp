@@ -118,7 +118,7 @@ TEST_F(OutputsDoc, EveryCsvHeaderIsThePagesColumnList) {
             ++compared;
         }
     }
-    EXPECT_EQ(compared, 4u) << "velocities.csv, scans.csv, covariance.csv, twist.csv";
+    EXPECT_EQ(compared, 5u) << "velocities.csv, scans.csv, covariance.csv, loops.csv, twist.csv";
 }
 
 TEST_F(OutputsDoc, EveryFileWrittenIsNamedOnThePage) {

@@ -28,10 +28,11 @@ std::string Text(const std::vector<FieldRow> &rows) {
 TEST(DatasetFields, EveryMemberIsAField) {
     DatasetConfig config;
     // config_path, path_base, path_base_dir, inputs: where it came from and how its paths were
-    // resolved; radars: a list, each radar RadarStream's list.
+    // resolved; radars: a list, each radar RadarStream's list; mount_source: derived (where the
+    // mount came from), not a key.
     EXPECT_EQ(testing::MembersWithoutField(
                   config, {&config.config_path, &config.path_base, &config.path_base_dir,
-                           &config.inputs, &config.radars}),
+                           &config.inputs, &config.radars, &config.mount_source}),
               std::vector<std::string>{});
     // The data sets' own readers fill these from their files: no key.
     RadarStream radar;

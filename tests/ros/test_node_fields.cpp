@@ -20,10 +20,10 @@ TEST(NodeFields, EveryMemberIsAParameter) {
     // dataset: the `config` YAML; front_end: odometry_config + mapper_config (the list sets
     // some of its members: mapper, prior, method, use_mask, min_points, use_power); needs_imu,
     // T_base_child, description: derived; T_world_child_initial: initial_pose (16 numbers);
-    // gaps.report_factor: not a parameter.
+    // gaps.report_factor: not a parameter; loop_closure: mapper_config's loop_closure section.
     EXPECT_EQ(testing::MembersWithoutField(
-                  s, {&s.dataset, &s.front_end, &s.needs_imu, &s.T_base_child, &s.description,
-                      &s.T_world_child_initial, &s.gaps.report_factor}),
+                  s, {&s.dataset, &s.front_end, &s.loop_closure, &s.needs_imu, &s.T_base_child,
+                      &s.description, &s.T_world_child_initial, &s.gaps.report_factor}),
               std::vector<std::string>{});
 }
 

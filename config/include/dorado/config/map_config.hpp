@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dorado/config/field_yaml.hpp"
+#include "dorado/loops/loop_fields.hpp"
 #include "dorado/mapping/mapper_fields.hpp"
 
 #include "dorado/mapping/motion_prior.hpp"
@@ -17,14 +18,16 @@ namespace dorado::config {
 struct MapCommandConfig {
     mapping::MapperConfig mapper;
     mapping::PriorNoiseConfig prior;
+    loops::LoopClosureConfig loop_closure;
 };
 
-/// The whole file's fields: mapper.*, prior.* (map.pcd / map.ply / map.png are the mapper's own
-/// map: its points as added, no output setting).
+/// The whole file's fields: mapper.*, prior.*, loop_closure.* (map.pcd / map.ply / map.png are the
+/// mapper's own map: its points as added, no output setting).
 template <typename Visitor>
 void VisitFields(MapCommandConfig &c, Visitor &&v) {
     VisitFields(c.mapper, Prefixed{"mapper.", v});
     VisitFields(c.prior, Prefixed{"prior.", v});
+    VisitFields(c.loop_closure, Prefixed{"loop_closure.", v});
 }
 
 /// Reads and validates a mapper YAML file. Unknown keys, wrong types and bad values throw
