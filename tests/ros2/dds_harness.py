@@ -95,7 +95,7 @@ class Recording:
         self.dataset = os.path.join(sim, "dataset_ros2.yaml")
         with open(self.dataset, "w") as f:
             f.write(text.replace("data.bag", self.path))
-        subprocess.run([dorado, "map", self.dataset, "--out", os.path.join(work_dir, "map")],
+        subprocess.run([dorado, "map", self.dataset, "--accept-implausible", "--out", os.path.join(work_dir, "map")],
                        check=True, stderr=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
         self.map = read_tum(os.path.join(work_dir, "map", "trajectory.tum"))
 
