@@ -66,7 +66,7 @@ class CmdData : public ::testing::Test {
         std::ofstream(description)
             << "name: two\n"
             << dorado::testing::kFrontFolderKeys
-            "radars:\n"
+            << "radars:\n"
             "  - {name: front, scans_dir: front/scans, timestamps_file: front/times.txt,\n"
             "     T_base_radar: {translation_m: [1, 0, 0]}}\n"
             "  - {name: left, scans_dir: left/scans, "
