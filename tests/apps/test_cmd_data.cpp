@@ -67,9 +67,9 @@ class CmdData : public ::testing::Test {
             << "name: two\n"
             << dorado::testing::kFrontFolderKeys
             << "radars:\n"
-            "  - {name: front, scans_dir: front/scans, timestamps_file: front/times.txt,\n"
-            "     T_base_radar: {translation_m: [1, 0, 0]}}\n"
-            "  - {name: left, scans_dir: left/scans, "
+               "  - {name: front, scans_dir: front/scans, timestamps_file: front/times.txt,\n"
+               "     T_base_radar: {translation_m: [1, 0, 0]}}\n"
+               "  - {name: left, scans_dir: left/scans, "
             << second_radar_keys << "\n     T_base_radar: {translation_m: [0, 1, 0]}}\n";
         return description;
     }
