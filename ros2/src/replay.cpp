@@ -25,7 +25,8 @@ void Publish(const Writer &writer, const std::string &type, const std::vector<ui
         const sensor_msgs_msg_dds__PointCloud2_ msg = CloudOf(cloud, fields);
         writer.Write(&msg);
     } else {
-        const sensor_msgs_msg_dds__Imu_ msg = ImuOf(io::DecodeImuCdr(bytes));
+        const io::CdrImu imu = io::DecodeImuCdr(bytes);  // the message borrows its frame_id
+        const sensor_msgs_msg_dds__Imu_ msg = ImuOf(imu);
         writer.Write(&msg);
     }
 }

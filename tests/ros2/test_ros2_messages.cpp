@@ -228,7 +228,8 @@ TEST(Ros2Cdr, RecordedMessagesRepublishWithTheirBytes) {
                 ++big_endian;
             }
         } else if (m.topic == "/imu") {
-            const sensor_msgs_msg_dds__Imu_ msg = ImuOf(io::DecodeImuCdr(m.data));
+            const io::CdrImu imu = io::DecodeImuCdr(m.data);  // the message borrows its frame_id
+            const sensor_msgs_msg_dds__Imu_ msg = ImuOf(imu);
             ExpectSameCdr(m.data, imus.RoundTrip(&msg), "imu");
             ++compared_imus;
         }
