@@ -28,7 +28,8 @@ nav_msgs_msg_dds__Odometry_ OdometryOf(ros_node::OdometryOutput &&odometry) = de
 /// geometry_msgs/msg/TransformStamped of a transform (its frames borrowed).
 [[nodiscard]] geometry_msgs_msg_dds__TransformStamped_ TransformOf(
     const ros_node::TransformOutput &transform);
-geometry_msgs_msg_dds__TransformStamped_ TransformOf(ros_node::TransformOutput &&transform) = delete;
+geometry_msgs_msg_dds__TransformStamped_ TransformOf(ros_node::TransformOutput &&transform) =
+    delete;
 
 /// sensor_msgs/msg/PointCloud2 of packed points; `fields` is storage the message's field sequence
 /// points into.
@@ -39,9 +40,8 @@ geometry_msgs_msg_dds__TransformStamped_ TransformOf(ros_node::TransformOutput &
 /// sensor_msgs/msg/PointCloud2 of a decoded one (`replay`: what the recording holds, unchanged).
 [[nodiscard]] sensor_msgs_msg_dds__PointCloud2_ CloudOf(
     const io::CdrPointCloud2 &cloud, std::vector<sensor_msgs_msg_dds__PointField_> &fields);
-sensor_msgs_msg_dds__PointCloud2_ CloudOf(io::CdrPointCloud2 &&cloud,
-                                          std::vector<sensor_msgs_msg_dds__PointField_> &fields) =
-    delete;
+sensor_msgs_msg_dds__PointCloud2_ CloudOf(
+    io::CdrPointCloud2 &&cloud, std::vector<sensor_msgs_msg_dds__PointField_> &fields) = delete;
 
 /// sensor_msgs/msg/Imu of a decoded one (its frame_id borrowed: `imu` must outlive the message).
 [[nodiscard]] sensor_msgs_msg_dds__Imu_ ImuOf(const io::CdrImu &imu);
