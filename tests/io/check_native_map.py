@@ -21,9 +21,11 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 def map_run(dorado, args, run, cwd=None):
-    """`dorado map ARGS --prior doppler --out RUN`: its trajectory, or None after saying why."""
-    result = subprocess.run([dorado, "map"] + args + ["--prior", "doppler", "--accept-implausible", "--out", run], cwd=cwd,
-                            capture_output=True, text=True)
+    """`dorado map ARGS --prior doppler --no-loops --out RUN`: its trajectory, or None after saying
+    why. (What is compared is what the readers give the mapper: loop closure, the same on both,
+    only adds time, 14x under ASan.)"""
+    result = subprocess.run([dorado, "map"] + args + ["--prior", "doppler", "--no-loops", "--accept-implausible",
+                                                      "--out", run], cwd=cwd, capture_output=True, text=True)
     if result.returncode != 0:
         print("dorado map %s: exit %d: %s" % (" ".join(args), result.returncode,
                                               result.stderr.strip().splitlines()[-1:]))
