@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """dorado_ros2 latency from a scan's arrival (the DDS reader's callback) to the write of its
 /dorado/map_odom (mapper on; /doppler_odom with it off), median and p95, over DDS on localhost
-with `dorado replay` of a simulated recording at RATE. Prints numbers; asserts nothing.
+with `dorado replay` of a simulated recording at RATE: the mapper off, on (loop closure on, the
+default), and on with loop closure off (its thread must not delay a scan). Prints numbers; asserts
+nothing.
 Usage: ros2_latency.py BUILD_DIR [RATE] [SECONDS]   (e.g. benchmarks/ros/ros2_latency.py build 1)"""
 import os
 import shutil
@@ -24,11 +26,17 @@ def main(build, rate, seconds):
     dds = h.Dds(work, *tools)
     try:
         recording = h.Recording(tools[0], work, seconds)
-        for mapper in (False, True):
-            run = dds.run_node(f"mapper_{mapper}", 69, recording.path, rate, expect=recording.scans,
-                               config=recording.dataset, mapper=mapper)
+        no_loops = os.path.join(work, "no_loops.yaml")
+        with open(no_loops, "w") as f:
+            f.write("loop_closure:\n  enabled: false\n")
+        for mapper, loops in ((False, False), (True, True), (True, False)):
+            extra = {} if loops or not mapper else {"mapper_config": no_loops}
+            run = dds.run_node(f"mapper_{mapper}_{loops}", 69, recording.path, rate,
+                               expect=recording.scans, config=recording.dataset, mapper=mapper,
+                               **extra)
             s, lat = run.summary, run.summary["latency_ms"]
-            print(f"dorado_ros2 seq04 {seconds} s at {rate}x, mapper {'on' if mapper else 'off'}: "
+            what = ("on, loop closure " + ("on" if loops else "off")) if mapper else "off"
+            print(f"dorado_ros2 seq04 {seconds} s at {rate}x, mapper {what}: "
                   f"{s['published']} of {s['received']} scans published, dropped "
                   f"{s['dropped'] or 'none'}; latency scan arrival -> "
                   f"{'/dorado/map_odom' if mapper else '/doppler_odom'} median {lat['median']:.2f} "
