@@ -23,7 +23,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 def map_run(dorado, args, run, cwd=None):
     """`dorado map ARGS --prior doppler --no-loops --out RUN`: its trajectory, or None after saying
     why. (What is compared is what the readers give the mapper: loop closure, the same on both,
-    only adds time, 14x under ASan.)"""
+    only adds time: the test took 388 s under ASan with it, 271 s without.)"""
     result = subprocess.run([dorado, "map"] + args + ["--prior", "doppler", "--no-loops", "--accept-implausible",
                                                       "--out", run], cwd=cwd, capture_output=True, text=True)
     if result.returncode != 0:
